@@ -1,0 +1,100 @@
+"""Input/output: the xarray Dataset of a run, its provenance, and safe writing."""
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import platform
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .quantities import attrs
+
+CONVENTIONS = "CF-1.10"
+UNITS_NOTE = ("units are combinations of the scene's cylinder radius R and bending stiffness EI "
+              "(and beta_ph, the drag per length, for time); with R = EI = 1 they are the internal units")
+
+
+def git_commit() -> str:
+    """Commit of the source tree the package was imported from ('-dirty' if modified)."""
+    env = os.environ.get("CONFINED_ROD_GIT_COMMIT")
+    if env:
+        return env
+    here = Path(__file__).resolve().parent
+    try:
+        sha = subprocess.run(["git", "-C", str(here), "rev-parse", "HEAD"], capture_output=True,
+                             text=True, timeout=10, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(here), "status", "--porcelain", "--", "."],
+                               capture_output=True, text=True, timeout=10).stdout.strip()
+        return sha + ("-dirty" if dirty else "")
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def provenance() -> dict[str, str]:
+    import netCDF4
+    import numba
+
+    from . import __version__
+
+    return {
+        "confined_rod_version": __version__,
+        "git_commit": git_commit(),
+        "python_version": platform.python_version(),
+        "numpy_version": np.__version__,
+        "numba_version": numba.__version__,
+        "xarray_version": xr.__version__,
+        "netCDF4_version": netCDF4.__version__,
+    }
+
+
+def netcdf_attr(value: Any) -> Any:
+    """netCDF attributes cannot be None or bool: store them as strings / ints."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return int(value)
+    if isinstance(value, (list, tuple)):
+        return np.asarray(value, dtype=float)
+    return value
+
+
+def variable(dims, data, name: str) -> xr.Variable:
+    return xr.Variable(dims, np.asarray(data), attrs=attrs(name))
+
+
+def finalize(ds: xr.Dataset, title: str, params: dict[str, Any]) -> xr.Dataset:
+    """Global CF attributes, parameters and provenance."""
+    now = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    ds.attrs.update({"Conventions": CONVENTIONS, "title": title, "units_note": UNITS_NOTE})
+    for k, v in params.items():
+        ds.attrs[k] = netcdf_attr(v)
+    prov = provenance()
+    ds.attrs.update(prov)
+    ds.attrs["history"] = f"{now}: created by confined_rod {prov['confined_rod_version']} (git {prov['git_commit']})"
+    return ds
+
+
+def check_finite(ds: xr.Dataset) -> None:
+    for name, var in ds.variables.items():
+        if np.issubdtype(var.dtype, np.floating) and not np.all(np.isfinite(var.values)):
+            raise ValueError(f"variable {name!r} contains non-finite values; refusing to write the dataset")
+
+
+def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write netCDF4 atomically: a temporary file in the same folder, renamed on success,
+    so a failed job leaves no half-written file."""
+    check_finite(ds)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path

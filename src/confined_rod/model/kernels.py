@@ -1,0 +1,285 @@
+"""numba kernels of the discrete model, one job each.
+
+Arrays (all C-contiguous float64):
+  r, t      (N, 3)  link centres and unit tangents, link 0 at the bottom (z ~ 0),
+                    link N-1 at the top where the load acts
+  Fm, Fp    (N, 3)  forces on the lower (r_i^-) and upper (r_i^+) end of each link
+  F, M      (N, 3)  net force on the link centre, torque about the link centre
+  Nw        (N,)    magnitude of the wall normal force on each link (sum over its ends)
+  par       (NPAR,) scalar parameters, indexed by the constants below
+
+Conventions: r_i^pm = r_i pm (l0/2) t_i.  The energy functions return the energy
+of the term they add, so that forces can be checked against -grad(E).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+# indices into the parameter vector ``par``
+HALF = 0  # l0/2
+K_BOND = 1  # k = k_ph/l0
+K_WALL = 2  # k_w
+R_WALL = 3  # R
+Z_TOP = 4  # z of the open pore entrance (no wall above it)
+LOAD = 5  # |F_z(0)|, pushes the upper end towards -z
+K_SUP = 6  # stiffness of the z support of the lower end and of lateral pins
+C_BEND = 7  # C = EI/l0
+K_FR = 8  # Coulomb coefficient
+F_CAP = 9  # cap on the friction force per link (friction_cap * l0); <= 0: no cap
+FX = 10  # external force per link (body force per length * l0)
+FY = 11
+FZ = 12
+LOWER_HELD = 13  # 1: lower end held in z by a penalty spring at z = 0
+ENDS_PINNED = 14  # 1: both ends held on the axis laterally (Euler test); 0: free
+GAMMA_T = 15  # translational drag per link
+GAMMA_R = 16  # rotational drag per link
+NPAR = 17
+
+
+@njit(cache=True)
+def bond_forces(r, t, par, Fm, Fp):
+    """Bond penalty (k/2)|r_{i+1}^- - r_i^+|^2; adds end forces, returns energy."""
+    h = par[HALF]
+    k = par[K_BOND]
+    e = 0.0
+    for i in range(r.shape[0] - 1):
+        gx = (r[i + 1, 0] - h * t[i + 1, 0]) - (r[i, 0] + h * t[i, 0])
+        gy = (r[i + 1, 1] - h * t[i + 1, 1]) - (r[i, 1] + h * t[i, 1])
+        gz = (r[i + 1, 2] - h * t[i + 1, 2]) - (r[i, 2] + h * t[i, 2])
+        Fp[i, 0] += k * gx
+        Fp[i, 1] += k * gy
+        Fp[i, 2] += k * gz
+        Fm[i + 1, 0] -= k * gx
+        Fm[i + 1, 1] -= k * gy
+        Fm[i + 1, 2] -= k * gz
+        e += 0.5 * k * (gx * gx + gy * gy + gz * gz)
+    return e
+
+
+@njit(cache=True)
+def _wall_point(px, py, pz, par):
+    """Radial overlap of one end point with the wall (0 if inside or above the pore)."""
+    if pz > par[Z_TOP]:
+        return 0.0, 0.0, 0.0
+    rho = np.sqrt(px * px + py * py)
+    d = rho - par[R_WALL]
+    if d <= 0.0:
+        return 0.0, 0.0, 0.0
+    return d, px / rho, py / rho
+
+
+@njit(cache=True)
+def wall_forces(r, t, par, Fm, Fp, Nw):
+    """One-sided wall penalty (k_w/2)(rho - R)^2 on both ends of every link below
+    the pore entrance; adds end forces, fills Nw, returns energy."""
+    h = par[HALF]
+    kw = par[K_WALL]
+    e = 0.0
+    for i in range(r.shape[0]):
+        Nw[i] = 0.0
+        for sgn in (-1.0, 1.0):
+            d, nx, ny = _wall_point(r[i, 0] + sgn * h * t[i, 0], r[i, 1] + sgn * h * t[i, 1],
+                                    r[i, 2] + sgn * h * t[i, 2], par)
+            if d > 0.0:
+                f = kw * d
+                if sgn < 0.0:
+                    Fm[i, 0] -= f * nx
+                    Fm[i, 1] -= f * ny
+                else:
+                    Fp[i, 0] -= f * nx
+                    Fp[i, 1] -= f * ny
+                Nw[i] += f
+                e += 0.5 * kw * d * d
+    return e
+
+
+@njit(cache=True)
+def boundary_forces(r, t, par, Fm, Fp):
+    """Load on the upper end, z support of the lower end, optional lateral pins.
+
+    Returns (energy, F_z at the support) where F_z(L) is the z force exerted by
+    the rod on the support (negative = compression)."""
+    h = par[HALF]
+    n = r.shape[0] - 1
+    ks = par[K_SUP]
+    # load: potential load * z(r_{N-1}^+)
+    ztop = r[n, 2] + h * t[n, 2]
+    Fp[n, 2] -= par[LOAD]
+    e = par[LOAD] * ztop
+    fz_support = 0.0
+    zb = r[0, 2] - h * t[0, 2]
+    if par[LOWER_HELD] > 0.5:
+        Fm[0, 2] -= ks * zb
+        e += 0.5 * ks * zb * zb
+        fz_support = ks * zb
+    if par[ENDS_PINNED] > 0.5:
+        for c in range(2):
+            pb = r[0, c] - h * t[0, c]
+            pt = r[n, c] + h * t[n, c]
+            Fm[0, c] -= ks * pb
+            Fp[n, c] -= ks * pt
+            e += 0.5 * ks * (pb * pb + pt * pt)
+    return e, fz_support
+
+
+@njit(cache=True)
+def bending_torques(t, par, M):
+    """Couples C t_i x (t_{i-1} + t_{i+1}) from E_b = C sum (1 - t_i.t_{i+1});
+    adds to M, returns energy."""
+    C = par[C_BEND]
+    n = t.shape[0]
+    e = 0.0
+    for i in range(n):
+        sx = 0.0
+        sy = 0.0
+        sz = 0.0
+        if i > 0:
+            sx += t[i - 1, 0]
+            sy += t[i - 1, 1]
+            sz += t[i - 1, 2]
+        if i < n - 1:
+            sx += t[i + 1, 0]
+            sy += t[i + 1, 1]
+            sz += t[i + 1, 2]
+            e += C * (1.0 - (t[i, 0] * t[i + 1, 0] + t[i, 1] * t[i + 1, 1] + t[i, 2] * t[i + 1, 2]))
+        M[i, 0] += C * (t[i, 1] * sz - t[i, 2] * sy)
+        M[i, 1] += C * (t[i, 2] * sx - t[i, 0] * sz)
+        M[i, 2] += C * (t[i, 0] * sy - t[i, 1] * sx)
+    return e
+
+
+@njit(cache=True)
+def collect_link_loads(r, t, par, Fm, Fp, F, M):
+    """Net force on each link centre (end forces + body force) and the torque of
+    the end forces, (l0/2) t x (F^+ - F^-); returns the body-force energy."""
+    h = par[HALF]
+    e = 0.0
+    for i in range(r.shape[0]):
+        for c in range(3):
+            F[i, c] = Fm[i, c] + Fp[i, c]
+        F[i, 0] += par[FX]
+        F[i, 1] += par[FY]
+        F[i, 2] += par[FZ]
+        e -= par[FX] * r[i, 0] + par[FY] * r[i, 1] + par[FZ] * r[i, 2]
+        dx = Fp[i, 0] - Fm[i, 0]
+        dy = Fp[i, 1] - Fm[i, 1]
+        dz = Fp[i, 2] - Fm[i, 2]
+        M[i, 0] += h * (t[i, 1] * dz - t[i, 2] * dy)
+        M[i, 1] += h * (t[i, 2] * dx - t[i, 0] * dz)
+        M[i, 2] += h * (t[i, 0] * dy - t[i, 1] * dx)
+    return e
+
+
+@njit(cache=True)
+def coulomb_friction(r, par, Nw, F, Ff, stuck):
+    """Overdamped Coulomb friction at the link centre (docs/model.md, "friction").
+
+    For a link touching the wall, with F_t the part of its net conservative force
+    tangent to the wall (normal = radial direction at the centre) and
+    f_max = min(k_fr N, cap):  |F_t| <= f_max  ->  friction = -F_t   (stick: the
+    centre does not move along the wall, exactly);  otherwise friction =
+    -f_max F_t/|F_t| (slip at the limit).  Adds friction to F, writes Ff, stuck."""
+    kfr = par[K_FR]
+    cap = par[F_CAP]
+    for i in range(r.shape[0]):
+        Ff[i, 0] = 0.0
+        Ff[i, 1] = 0.0
+        Ff[i, 2] = 0.0
+        stuck[i] = 0.0
+        if Nw[i] <= 0.0 or kfr <= 0.0:
+            continue
+        rho = np.sqrt(r[i, 0] ** 2 + r[i, 1] ** 2)
+        if rho == 0.0:
+            continue
+        nx = r[i, 0] / rho
+        ny = r[i, 1] / rho
+        fn = F[i, 0] * nx + F[i, 1] * ny
+        tx = F[i, 0] - fn * nx
+        ty = F[i, 1] - fn * ny
+        tz = F[i, 2]
+        ft = np.sqrt(tx * tx + ty * ty + tz * tz)
+        fmax = kfr * Nw[i]
+        if cap > 0.0 and fmax > cap:
+            fmax = cap
+        if ft <= fmax:
+            s = 1.0
+            stuck[i] = 1.0
+        else:
+            s = fmax / ft
+        Ff[i, 0] = -s * tx
+        Ff[i, 1] = -s * ty
+        Ff[i, 2] = -s * tz
+        F[i, 0] += Ff[i, 0]
+        F[i, 1] += Ff[i, 1]
+        F[i, 2] += Ff[i, 2]
+
+
+@njit(cache=True)
+def conservative_loads(r, t, par, Fm, Fp, F, M, Nw):
+    """All conservative forces and torques; returns (energy, F_z at the support)."""
+    Fm[:, :] = 0.0
+    Fp[:, :] = 0.0
+    M[:, :] = 0.0
+    e = bond_forces(r, t, par, Fm, Fp)
+    e += wall_forces(r, t, par, Fm, Fp, Nw)
+    eb, fz_support = boundary_forces(r, t, par, Fm, Fp)
+    e += eb
+    e += bending_torques(t, par, M)
+    e += collect_link_loads(r, t, par, Fm, Fp, F, M)
+    return e, fz_support
+
+
+@njit(cache=True)
+def residuals(t, F, M):
+    """max_i |F_i| and max_i |M_i x t_i| (the torque that turns the link)."""
+    fmax = 0.0
+    mmax = 0.0
+    for i in range(t.shape[0]):
+        f = np.sqrt(F[i, 0] ** 2 + F[i, 1] ** 2 + F[i, 2] ** 2)
+        mx = M[i, 1] * t[i, 2] - M[i, 2] * t[i, 1]
+        my = M[i, 2] * t[i, 0] - M[i, 0] * t[i, 2]
+        mz = M[i, 0] * t[i, 1] - M[i, 1] * t[i, 0]
+        m = np.sqrt(mx * mx + my * my + mz * mz)
+        if f > fmax:
+            fmax = f
+        if m > mmax:
+            mmax = m
+    return fmax, mmax
+
+
+@njit(cache=True)
+def euler_update(r, t, F, M, dt, par):
+    """One explicit (forward) Euler step of the overdamped dynamics:
+    gamma_t dr/dt = F,  gamma_r dt/dt = M x t, then |t| = 1."""
+    at = dt / par[GAMMA_T]
+    ar = dt / par[GAMMA_R]
+    for i in range(r.shape[0]):
+        r[i, 0] += at * F[i, 0]
+        r[i, 1] += at * F[i, 1]
+        r[i, 2] += at * F[i, 2]
+        wx = M[i, 1] * t[i, 2] - M[i, 2] * t[i, 1]
+        wy = M[i, 2] * t[i, 0] - M[i, 0] * t[i, 2]
+        wz = M[i, 0] * t[i, 1] - M[i, 1] * t[i, 0]
+        t0 = t[i, 0] + ar * wx
+        t1 = t[i, 1] + ar * wy
+        t2 = t[i, 2] + ar * wz
+        nrm = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        t[i, 0] = t0 / nrm
+        t[i, 1] = t1 / nrm
+        t[i, 2] = t2 / nrm
+
+
+@njit(cache=True)
+def explicit_steps(r, t, par, dt, nsteps, Fm, Fp, F, M, Nw, Ff, stuck):
+    """``nsteps`` explicit Euler steps; friction only when k_fr > 0.
+    Returns the number of steps done (fewer if a value became non-finite)."""
+    use_friction = par[K_FR] > 0.0
+    for n in range(nsteps):
+        conservative_loads(r, t, par, Fm, Fp, F, M, Nw)
+        if use_friction:
+            coulomb_friction(r, par, Nw, F, Ff, stuck)
+        euler_update(r, t, F, M, dt, par)
+        if not np.isfinite(r[0, 0] + r[r.shape[0] - 1, 2] + t[r.shape[0] // 2, 0]):
+            return n + 1
+    return nsteps

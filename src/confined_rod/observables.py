@@ -1,0 +1,97 @@
+"""Observables of an equilibrium (or final) state, ordered from the loaded end.
+
+Sign convention: F_z at a joint is the z force exerted by the part of the rod
+above the joint on the part below it (negative = compression); F_z(0) = -load,
+and F_z(L) is the force the rod exerts on the lower support.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import kernels as K
+from .scenes import Scene
+from .solvers.explicit import Workspace, evaluate
+
+
+@dataclass
+class Observables:
+    s: np.ndarray  # (N+1,) joints from the loaded end
+    F_z: np.ndarray
+    s_link: np.ndarray  # (N,) link centres from the loaded end
+    r: np.ndarray  # (N, 3)
+    t: np.ndarray  # (N, 3)
+    wall_force: np.ndarray  # (N,)
+    contact: np.ndarray
+    friction_force: np.ndarray
+    friction_z: np.ndarray
+    stuck: np.ndarray
+    s_helix: np.ndarray  # contact stretch
+    phi: np.ndarray
+    dphi_ds: np.ndarray
+    L_z: float
+    F_transmitted: float
+
+
+def axial_forces(scene: Scene, r: np.ndarray, t: np.ndarray, fz_support: float) -> np.ndarray:
+    """F_z at the N+1 joints, from the loaded end (s = 0) to the support (s = L)."""
+    k = scene.constants().k
+    h = 0.5 * scene.l0
+    gz = (r[1:, 2] - h * t[1:, 2]) - (r[:-1, 2] + h * t[:-1, 2])  # bond b: links b, b+1
+    bonds_from_top = (k * gz)[::-1]
+    return np.concatenate([[-scene.load], bonds_from_top, [fz_support]])
+
+
+def contact_stretch(contact: np.ndarray) -> slice:
+    """From the first to the last link touching the wall (empty if < 3 links touch)."""
+    idx = np.flatnonzero(contact)
+    if idx.size < 3:
+        return slice(0, 0)
+    return slice(idx[0], idx[-1] + 1)
+
+
+def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
+    par = scene.params()
+    ws = Workspace.for_links(scene.N)
+    fz_support = evaluate(scene, par, r, t, ws)
+    F_z = axial_forces(scene, r, t, fz_support)
+    s = np.arange(scene.N + 1) * scene.l0
+    order = np.arange(scene.N)[::-1]  # link index from the loaded end
+    s_link = (np.arange(scene.N) + 0.5) * scene.l0
+    rr, tt = r[order], t[order]
+    Nw = ws.Nw[order]
+    Ff = ws.Ff[order]
+    contact = (Nw > 0).astype(np.int8)
+    sl = contact_stretch(contact)
+    phi = np.unwrap(np.arctan2(rr[sl, 1], rr[sl, 0]))
+    s_helix = s_link[sl]
+    dphi = np.gradient(phi, s_helix) if phi.size >= 2 else np.zeros_like(phi)
+    h = 0.5 * scene.l0
+    L_z = float((r[-1, 2] + h * t[-1, 2]) - (r[0, 2] - h * t[0, 2]))
+    return Observables(
+        s=s, F_z=F_z, s_link=s_link, r=rr, t=tt, wall_force=Nw, contact=contact,
+        friction_force=np.linalg.norm(Ff, axis=1), friction_z=Ff[:, 2],
+        stuck=ws.stuck[order].astype(np.int8), s_helix=s_helix, phi=phi, dphi_ds=dphi,
+        L_z=L_z, F_transmitted=float(-F_z[-1]),
+    )
+
+
+def helix_frictionless(load: float, R: float = 1.0, EI: float = 1.0) -> tuple[float, float]:
+    """Bulk pitch rate omega = dphi/ds and wall force per length K of a
+    frictionless helix on the wall with no torque at the free ends (docs/model.md):
+        2 EI omega^2 sqrt(1 - R^2 omega^2) = |F_z|,   K = EI R omega^4.
+    To lowest order omega^2 = |F_z|/(2EI) and K = R F_z^2/(4 EI)."""
+    # solve 2 EI w^2 sqrt(1 - R^2 w^2) = F for the small root by bisection on u = (R w)^2
+    f = load * R * R / (2.0 * EI)
+    if f > 2.0 / (3.0 * np.sqrt(3.0)):
+        raise ValueError(f"no helix on the wall for load {load} (max 4 EI/(3 sqrt(3) R^2))")
+    lo, hi = 0.0, 2.0 / 3.0  # u sqrt(1-u) increases on [0, 2/3]
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid * np.sqrt(1.0 - mid) < f:
+            lo = mid
+        else:
+            hi = mid
+    omega = np.sqrt(0.5 * (lo + hi)) / R
+    return float(omega), float(EI * R * omega**4)

@@ -1,0 +1,249 @@
+"""Scenes: physical set-up, boundary conditions, protocols and numerical settings.
+
+A :class:`Scene` is validated on construction: a bad value raises
+:class:`SceneError` naming the key and the value, before any computation.
+Numerical defaults given as ``None`` are resolved in units of the scene's R and
+EI (so a scene in physical units gets the same discretisation relative to R).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .model import kernels as K
+from .model.parameters import DiscreteConstants, discrete_constants
+
+
+class SceneError(ValueError):
+    """Invalid scene input. The message names the key and the offending value."""
+
+
+# Defaults of the numerical parameters, in units of R and EI (see docs/model.md,
+# "numerical defaults", for how they were chosen).
+DEFAULT_L0 = 0.5  # R
+DEFAULT_K_PH = 1000.0  # EI/R^2: axial strain load/k_ph = 2.5e-4 at load 0.25
+DEFAULT_K_W = 1000.0  # EI/R^3 per link end: penetration <= N/k_w
+DEFAULT_FRICTION_CAP = 0.1  # EI/R^3, friction per unit length; 8x the bulk k_fr K at load 0.25
+DEFAULT_PERTURBATION = 1e-3  # R
+DEFAULT_T_MAX = 2e5  # beta_ph R^4/EI
+
+PROTOCOLS = ("straight", "planar", "planar_then_3d")
+ENDS = ("free", "pinned")
+LOWER_END = ("held", "free")
+ROTATIONAL_DRAG = ("paper", "rigid_link")
+SOLVERS = ("explicit",)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One simulation: a rod of length L in a cylinder of radius R.
+
+    Physical parameters (paper notation):
+      L, R, EI     contour length, cylinder radius, bending stiffness
+      load         |F_z(0)|, compressive force on the upper end (EI/R^2)
+      k_fr         Coulomb friction coefficient of the wall
+      friction_cap maximum friction force per unit length of rod (EI/R^3);
+                   the paper's cap for the few hard-pressed links. ``0`` = no cap
+      body_force   external force per unit length (fx, fy, fz) on every link
+    Boundary conditions and protocol:
+      pore_length  z of the open pore entrance, >= L (default L: the top of the unloaded rod)
+      ends         'free': both ends free sideways (paper); 'pinned': held on the axis
+      lower_end    'held': z of the lower end held at 0 (paper); 'free'
+      protocol     'straight': straight rod + 3-D random perturbation (paper);
+                   'planar': perturbation in the x-z plane only -> planar confined state;
+                   'planar_then_3d': planar equilibrium, then a 3-D perturbation (Fig 2)
+      perturbation amplitude of the random lateral displacement of link centres (R)
+      seed         random seed of the perturbation
+    Numerics:
+      l0, k_ph, k_w  link length, stretching stiffness (k = k_ph/l0), wall penalty
+      solver        'explicit' (paper-faithful forward Euler)
+      dt_factor     time step as a fraction of the estimated stability limit
+      tol           equilibrium when max|F_i| L/(l0 load) and max|M_i x t_i| L/(l0 load R) < tol
+      t_max         cap on simulated time; reaching it flags the run as not converged
+      rotational_drag 'paper' (gamma_r = beta_ph l0 R^2) or 'rigid_link' (beta_ph l0^3/12)
+      snapshot_interval simulated time between stored shapes; 0 = none
+    """
+
+    L: float = 20.0
+    R: float = 1.0
+    EI: float = 1.0
+    load: float = 0.25
+    k_fr: float = 0.8
+    friction_cap: float | None = None
+    body_force: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    pore_length: float | None = None
+    ends: str = "free"
+    lower_end: str = "held"
+    protocol: str = "straight"
+    perturbation: float | None = None
+    seed: int = 0
+    l0: float | None = None
+    k_ph: float | None = None
+    k_w: float | None = None
+    solver: str = "explicit"
+    dt_factor: float = 0.5
+    tol: float = 1e-5
+    t_max: float | None = None
+    rotational_drag: str = "paper"
+    snapshot_interval: float = 0.0
+    name: str = "scene"
+
+    def __post_init__(self) -> None:
+        _validate(self)
+
+    # -- derived -----------------------------------------------------------
+    @property
+    def N(self) -> int:
+        return int(round(self.L / self.l0))
+
+    def constants(self) -> DiscreteConstants:
+        return discrete_constants(self.L, self.R, self.EI, self.l0, self.k_ph, self.k_w,
+                                  self.rotational_drag)
+
+    def dt(self) -> float:
+        return self.dt_factor * self.constants().dt_stable
+
+    def params(self) -> np.ndarray:
+        """The kernel parameter vector (see model.kernels)."""
+        c = self.constants()
+        p = np.zeros(K.NPAR)
+        p[K.HALF] = 0.5 * self.l0
+        p[K.K_BOND] = c.k
+        p[K.K_WALL] = self.k_w
+        p[K.R_WALL] = self.R
+        p[K.Z_TOP] = self.pore_length
+        p[K.LOAD] = self.load
+        p[K.K_SUP] = c.k_support
+        p[K.C_BEND] = c.C
+        p[K.K_FR] = self.k_fr
+        p[K.F_CAP] = self.friction_cap * self.l0
+        p[K.FX:K.FZ + 1] = np.asarray(self.body_force) * self.l0
+        p[K.LOWER_HELD] = 1.0 if self.lower_end == "held" else 0.0
+        p[K.ENDS_PINNED] = 1.0 if self.ends == "pinned" else 0.0
+        p[K.GAMMA_T] = c.beta
+        p[K.GAMMA_R] = c.gamma_r
+        return p
+
+    def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """Straight rod on the axis from z = 0 to L, with the seeded perturbation."""
+        N = self.N
+        r = np.zeros((N, 3))
+        r[:, 2] = (np.arange(N) + 0.5) * self.l0
+        t = np.zeros((N, 3))
+        t[:, 2] = 1.0
+        rng = np.random.default_rng(self.seed)
+        d = rng.uniform(-1.0, 1.0, size=(N, 2)) * self.perturbation
+        r[:, 0] += d[:, 0]
+        if self.protocol == "straight":
+            r[:, 1] += d[:, 1]
+        return r, t
+
+    def perturb_3d(self, r: np.ndarray) -> None:
+        """Second stage of 'planar_then_3d': seeded out-of-plane perturbation."""
+        rng = np.random.default_rng([self.seed, 1])
+        r[:, 1] += rng.uniform(-1.0, 1.0, size=r.shape[0]) * self.perturbation
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+    # -- construction from user input ----------------------------------------
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> "Scene":
+        if not isinstance(data, dict):
+            raise SceneError(f"a scene must be a mapping of keys to values, got {type(data).__name__}")
+        known = {f.name for f in dataclasses.fields(cls)}
+        for key in data:
+            if key not in known:
+                raise SceneError(f"unknown key {key!r} (value {data[key]!r}); known keys: {', '.join(sorted(known))}")
+        return cls(**data)
+
+    @classmethod
+    def from_yaml(cls, path: str | Path) -> "Scene":
+        import yaml
+
+        path = Path(path)
+        try:
+            data = yaml.safe_load(path.read_text())
+        except FileNotFoundError:
+            raise SceneError(f"scene file {str(path)!r} does not exist") from None
+        except yaml.YAMLError as exc:
+            raise SceneError(f"scene file {str(path)!r} is not valid YAML: {exc}") from None
+        if data is None:
+            data = {}
+        if isinstance(data, dict) and "name" not in data:
+            data = {**data, "name": path.stem}
+        return cls.from_dict(data)
+
+
+def _validate(s: Scene) -> None:
+    def fail(key: str, msg: str) -> None:
+        raise SceneError(f"scene {s.name!r}: invalid value for {key!r}: {getattr(s, key)!r} ({msg})")
+
+    def real(key: str, *, positive: bool = False, nonneg: bool = False, allow_none: bool = False) -> None:
+        v = getattr(s, key)
+        if v is None and allow_none:
+            return
+        if isinstance(v, bool) or not isinstance(v, numbers.Real):
+            fail(key, "must be a number")
+        if not math.isfinite(v):
+            fail(key, "must be finite")
+        if positive and not v > 0:
+            fail(key, "must be > 0")
+        if nonneg and not v >= 0:
+            fail(key, "must be >= 0")
+
+    if not isinstance(s.name, str) or not s.name:
+        fail("name", "must be a non-empty string")
+    for key in ("L", "R", "EI", "load"):
+        real(key, positive=True)
+    real("k_fr", nonneg=True)
+    real("snapshot_interval", nonneg=True)
+    for key in ("l0", "k_ph", "k_w", "perturbation", "t_max", "pore_length"):
+        real(key, positive=True, allow_none=True)
+    real("friction_cap", nonneg=True, allow_none=True)
+    real("dt_factor", positive=True)
+    real("tol", positive=True)
+    if isinstance(s.seed, bool) or not isinstance(s.seed, numbers.Integral) or s.seed < 0:
+        fail("seed", "must be a non-negative integer")
+    for key, allowed in (("protocol", PROTOCOLS), ("ends", ENDS), ("lower_end", LOWER_END),
+                         ("rotational_drag", ROTATIONAL_DRAG), ("solver", SOLVERS)):
+        if getattr(s, key) not in allowed:
+            fail(key, f"must be one of {', '.join(allowed)}")
+    bf = s.body_force
+    if (not isinstance(bf, (list, tuple)) or len(bf) != 3
+            or any(isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) for v in bf)):
+        fail("body_force", "must be three finite numbers (fx, fy, fz)")
+
+    # resolve defaults in units of R and EI
+    R, EI = float(s.R), float(s.EI)
+    resolved = {
+        "l0": DEFAULT_L0 * R, "k_ph": DEFAULT_K_PH * EI / R**2, "k_w": DEFAULT_K_W * EI / R**3,
+        "friction_cap": DEFAULT_FRICTION_CAP * EI / R**3, "perturbation": DEFAULT_PERTURBATION * R,
+        "t_max": DEFAULT_T_MAX * R**4 / EI, "pore_length": float(s.L),
+    }
+    for key, default in resolved.items():
+        object.__setattr__(s, key, float(default if getattr(s, key) is None else getattr(s, key)))
+    for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval"):
+        object.__setattr__(s, key, float(getattr(s, key)))
+    object.__setattr__(s, "seed", int(s.seed))
+    object.__setattr__(s, "body_force", tuple(float(v) for v in bf))
+
+    if s.l0 > s.L:
+        fail("l0", f"must not exceed L = {s.L}")
+    n = s.L / s.l0
+    if abs(n - round(n)) > 1e-9 * n:
+        fail("l0", f"L = {s.L} must be an integer multiple of l0")
+    if round(n) < 3:
+        fail("l0", f"the rod needs at least 3 links, L/l0 = {n:g}")
+    if s.dt_factor > 1.0:
+        fail("dt_factor", "must be <= 1 (fraction of the explicit stability limit)")
+    if s.perturbation >= s.R:
+        fail("perturbation", f"must be smaller than R = {s.R}")
+    if s.pore_length < s.L:
+        fail("pore_length", f"must be at least L = {s.L}: the rod starts inside the pore")
