@@ -1,0 +1,51 @@
+"""Static friction is truly static; above the friction limit the rod slides at
+the velocity Coulomb's law predicts.
+
+Set-up with an analytic answer: a straight rod of length L pressed against the
+wall by a body force p per unit length (so N = p l0 on every link), lower end
+free, pushed axially by T.  The friction capacity of the whole rod is
+k_fr p L.  Below it the rod must come to rest and stay there exactly; above it
+every link slides at the limit and the rod moves at v = (T - k_fr p L)/(beta_ph L).
+"""
+import numpy as np
+import pytest
+
+from confined_rod import Scene
+from confined_rod.solvers.explicit import RunState, relax
+
+P, KFR, L = 0.1, 0.5, 4.0  # capacity k_fr p L = 0.2
+
+
+def scene(T, tol=1e-8):
+    return Scene(L=L, l0=0.5, load=T, k_fr=KFR, friction_cap=0.0, body_force=(P, 0.0, 0.0),
+                 lower_end="free", perturbation=1e-6, k_ph=200.0, tol=tol, name=f"T={T}")
+
+
+def test_below_the_limit_the_rod_sticks_and_never_creeps():
+    sc = scene(0.1)
+    st = RunState(*sc.initial_state())
+    relax(sc, st, t_end=2000.0, progress=False)
+    assert st.converged, "the rod must come to rest below the friction limit"
+    t_rest = st.time
+    z_rest = st.r[:, 2].copy()
+    phi_rest = np.arctan2(st.r[:, 1], st.r[:, 0])
+    # run on for 20x as long with an unreachable tolerance: nothing may move along the wall
+    sc_long = scene(0.1, tol=1e-300)
+    relax(sc_long, st, t_end=t_rest + 20 * max(t_rest, 50.0), progress=False)
+    assert not st.converged and st.steps > 1_000_000
+    # stuck links have exactly zero axial velocity; 1e-12 R allows for round-off only
+    assert np.abs(st.r[:, 2] - z_rest).max() < 1e-12
+    assert np.abs(np.arctan2(st.r[:, 1], st.r[:, 0]) - phi_rest).max() < 1e-12
+
+
+def test_above_the_limit_the_rod_slides_at_the_coulomb_velocity():
+    T = 0.3
+    sc = scene(T)
+    st = RunState(*sc.initial_state())
+    relax(sc, st, t_end=60.0, progress=False)  # transient: reach the wall (~R/p = 10)
+    z0, t0 = st.r[:, 2].mean(), st.time
+    relax(sc, st, t_end=120.0, progress=False)
+    v = (st.r[:, 2].mean() - z0) / (st.time - t0)
+    v_coulomb = -(T - KFR * P * L) / L  # beta_ph = 1
+    # steady sliding: the only error is the penalty penetration changing N by O(p/k_w)
+    assert v == pytest.approx(v_coulomb, rel=1e-3)
