@@ -31,11 +31,13 @@ def test_forces_and_torques_are_minus_energy_gradient(rng, ends, lower_end):
     scene = Scene(L=6.0, l0=0.5, k_ph=50.0, k_w=80.0, load=0.3, ends=ends, lower_end=lower_end,
                   body_force=(0.05, -0.02, 0.01), pore_length=6.0)
     r, t = random_state(scene, rng)
+    r[:, 2] -= 0.6  # push the lowest link ends through the floor (lower piston)
     par = scene.params()
     ws = Workspace.for_links(scene.N)
-    e, _ = K.conservative_loads(r, t, par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)
+    e, _, f_floor = K.conservative_loads(r, t, par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)
     assert e == pytest.approx(total_energy(r, t, par), rel=1e-12)
     assert np.count_nonzero(ws.Nw) >= 3, "the state must press some link ends into the wall"
+    assert f_floor > 0, "the state must press some link ends into the floor"
 
     grad_F = np.zeros_like(r)
     for i in range(scene.N):

@@ -22,7 +22,7 @@ BAD = [
     ({"ends": "clamped"}, "'ends'", "'clamped'"),
     ({"dt_factor": 2.0}, "'dt_factor'", "2.0"),
     ({"body_force": [1.0, 2.0]}, "'body_force'", "[1.0, 2.0]"),
-    ({"pore_length": 5.0, "L": 10.0}, "'pore_length'", "5.0"),
+    ({"pore_length": 0.5, "L": 10.0}, "'pore_length'", "0.5"),
     ({"perturbation": 2.0}, "'perturbation'", "2.0"),
     ({"friction_cap": -1.0}, "'friction_cap'", "-1.0"),
 ]

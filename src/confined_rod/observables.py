@@ -31,7 +31,7 @@ class Observables:
     phi: np.ndarray
     dphi_ds: np.ndarray
     L_z: float
-    F_transmitted: float
+    F_transmitted: float  # z force on the lower piston: support + floor contacts
 
 
 def axial_forces(scene: Scene, r: np.ndarray, t: np.ndarray, fz_support: float) -> np.ndarray:
@@ -54,7 +54,7 @@ def contact_stretch(contact: np.ndarray) -> slice:
 def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
     par = scene.params()
     ws = Workspace.for_links(scene.N)
-    fz_support = evaluate(scene, par, r, t, ws)
+    fz_support, f_floor = evaluate(scene, par, r, t, ws)
     F_z = axial_forces(scene, r, t, fz_support)
     s = np.arange(scene.N + 1) * scene.l0
     order = np.arange(scene.N)[::-1]  # link index from the loaded end
@@ -73,7 +73,7 @@ def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
         s=s, F_z=F_z, s_link=s_link, r=rr, t=tt, wall_force=Nw, contact=contact,
         friction_force=np.linalg.norm(Ff, axis=1), friction_z=Ff[:, 2],
         stuck=ws.stuck[order].astype(np.int8), s_helix=s_helix, phi=phi, dphi_ds=dphi,
-        L_z=L_z, F_transmitted=float(-F_z[-1]),
+        L_z=L_z, F_transmitted=float(f_floor - F_z[-1]),
     )
 
 

@@ -39,7 +39,7 @@ _Q = [
     Quantity("ty", "t_y", "y component of the unit tangent", "1"),
     Quantity("tz", "t_z", "z component of the unit tangent", "1"),
     Quantity("F_z", "F_z", "axial force transmitted through the joint (negative = compression)", "EI R-2"),
-    Quantity("F_transmitted", "|F_z(L)|", "compressive force transmitted to the lower support", "EI R-2"),
+    Quantity("F_transmitted", "|F_z(L)|", "compressive force transmitted to the lower piston (support of the lower end + floor contacts)", "EI R-2"),
     Quantity("L_z", "L_z", "projection of the rod on the cylinder axis", "R"),
     Quantity("wall_force", "N", "magnitude of the wall normal force on the link", "EI R-2"),
     Quantity("wall_force_density", "K", "wall normal force per unit length (N/l0)", "EI R-3"),

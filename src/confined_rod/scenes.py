@@ -31,6 +31,7 @@ DEFAULT_K_PH = 1000.0  # EI/R^2: axial strain load/k_ph = 2.5e-4 at load 0.25
 DEFAULT_K_W = 1000.0  # EI/R^3 per link end: penetration <= N/k_w
 DEFAULT_FRICTION_CAP = 0.1  # EI/R^3, friction per unit length; 8x the bulk k_fr K at load 0.25
 DEFAULT_PERTURBATION = 1e-3  # R
+DEFAULT_KICK = 0.1  # R
 DEFAULT_T_MAX = 2e5  # beta_ph R^4/EI
 
 PROTOCOLS = ("straight", "planar", "planar_then_3d")
@@ -52,13 +53,19 @@ class Scene:
                    the paper's cap for the few hard-pressed links. ``0`` = no cap
       body_force   external force per unit length (fx, fy, fz) on every link
     Boundary conditions and protocol:
-      pore_length  z of the open pore entrance, >= L (default L: the top of the unloaded rod)
+      pore_length  z of the open pore entrance (default L: the top of the unloaded rod);
+                   with pore_length < L the upper part starts outside the pore
       ends         'free': both ends free sideways (paper); 'pinned': held on the axis
       lower_end    'held': z of the lower end held at 0 (paper); 'free'
+      floor        the lower piston at z = 0 is a wall for the whole rod (True), so
+                   the rod cannot fold down past its support; False: no floor
       protocol     'straight': straight rod + 3-D random perturbation (paper);
                    'planar': perturbation in the x-z plane only -> planar confined state;
                    'planar_then_3d': planar equilibrium, then a 3-D perturbation (Fig 2)
       perturbation amplitude of the random lateral displacement of link centres (R)
+      kick         amplitude of the out-of-plane displacement that starts the second
+                   stage of 'planar_then_3d' (default 0.1 R: large enough that the
+                   residual criterion cannot stop the run on the planar saddle)
       seed         random seed of the perturbation
     Numerics:
       l0, k_ph, k_w  link length, stretching stiffness (k = k_ph/l0), wall penalty
@@ -80,8 +87,10 @@ class Scene:
     pore_length: float | None = None
     ends: str = "free"
     lower_end: str = "held"
+    floor: bool = True
     protocol: str = "straight"
     perturbation: float | None = None
+    kick: float | None = None
     seed: int = 0
     l0: float | None = None
     k_ph: float | None = None
@@ -128,6 +137,7 @@ class Scene:
         p[K.ENDS_PINNED] = 1.0 if self.ends == "pinned" else 0.0
         p[K.GAMMA_T] = c.beta
         p[K.GAMMA_R] = c.gamma_r
+        p[K.FLOOR] = 1.0 if self.floor else 0.0
         return p
 
     def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
@@ -147,7 +157,7 @@ class Scene:
     def perturb_3d(self, r: np.ndarray) -> None:
         """Second stage of 'planar_then_3d': seeded out-of-plane perturbation."""
         rng = np.random.default_rng([self.seed, 1])
-        r[:, 1] += rng.uniform(-1.0, 1.0, size=r.shape[0]) * self.perturbation
+        r[:, 1] += rng.uniform(-1.0, 1.0, size=r.shape[0]) * self.kick
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -198,13 +208,15 @@ def _validate(s: Scene) -> None:
         if nonneg and not v >= 0:
             fail(key, "must be >= 0")
 
+    if not isinstance(s.floor, bool):
+        fail("floor", "must be true or false")
     if not isinstance(s.name, str) or not s.name:
         fail("name", "must be a non-empty string")
     for key in ("L", "R", "EI", "load"):
         real(key, positive=True)
     real("k_fr", nonneg=True)
     real("snapshot_interval", nonneg=True)
-    for key in ("l0", "k_ph", "k_w", "perturbation", "t_max", "pore_length"):
+    for key in ("l0", "k_ph", "k_w", "perturbation", "kick", "t_max", "pore_length"):
         real(key, positive=True, allow_none=True)
     real("friction_cap", nonneg=True, allow_none=True)
     real("dt_factor", positive=True)
@@ -225,6 +237,7 @@ def _validate(s: Scene) -> None:
     resolved = {
         "l0": DEFAULT_L0 * R, "k_ph": DEFAULT_K_PH * EI / R**2, "k_w": DEFAULT_K_W * EI / R**3,
         "friction_cap": DEFAULT_FRICTION_CAP * EI / R**3, "perturbation": DEFAULT_PERTURBATION * R,
+        "kick": DEFAULT_KICK * R,
         "t_max": DEFAULT_T_MAX * R**4 / EI, "pore_length": float(s.L),
     }
     for key, default in resolved.items():
@@ -243,7 +256,8 @@ def _validate(s: Scene) -> None:
         fail("l0", f"the rod needs at least 3 links, L/l0 = {n:g}")
     if s.dt_factor > 1.0:
         fail("dt_factor", "must be <= 1 (fraction of the explicit stability limit)")
-    if s.perturbation >= s.R:
-        fail("perturbation", f"must be smaller than R = {s.R}")
-    if s.pore_length < s.L:
-        fail("pore_length", f"must be at least L = {s.L}: the rod starts inside the pore")
+    for key in ("perturbation", "kick"):
+        if getattr(s, key) >= s.R:
+            fail(key, f"must be smaller than R = {s.R}")
+    if s.pore_length < 2.0 * s.l0:
+        fail("pore_length", f"the pore must hold at least two links (2 l0 = {2 * s.l0})")

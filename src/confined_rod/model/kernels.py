@@ -34,7 +34,8 @@ LOWER_HELD = 13  # 1: lower end held in z by a penalty spring at z = 0
 ENDS_PINNED = 14  # 1: both ends held on the axis laterally (Euler test); 0: free
 GAMMA_T = 15  # translational drag per link
 GAMMA_R = 16  # rotational drag per link
-NPAR = 17
+FLOOR = 17  # 1: the lower piston at z = 0 is a one-sided wall (stiffness k_w) for every link end
+NPAR = 18
 
 
 @njit(cache=True)
@@ -121,6 +122,31 @@ def boundary_forces(r, t, par, Fm, Fp):
             Fp[n, c] -= ks * pt
             e += 0.5 * ks * (pb * pb + pt * pt)
     return e, fz_support
+
+
+@njit(cache=True)
+def floor_forces(r, t, par, Fm, Fp):
+    """Lower piston: one-sided penalty (k_w/2) z^2 for link ends below z = 0, except
+    the lower end itself (held by the support). Returns (energy, total z force
+    of the floor on the rod)."""
+    if par[FLOOR] < 0.5:
+        return 0.0, 0.0
+    h = par[HALF]
+    kw = par[K_WALL]
+    e = 0.0
+    ftot = 0.0
+    for i in range(r.shape[0]):
+        zm = r[i, 2] - h * t[i, 2]
+        zp = r[i, 2] + h * t[i, 2]
+        if zm < 0.0 and i > 0:
+            Fm[i, 2] -= kw * zm
+            ftot -= kw * zm
+            e += 0.5 * kw * zm * zm
+        if zp < 0.0:
+            Fp[i, 2] -= kw * zp
+            ftot -= kw * zp
+            e += 0.5 * kw * zp * zp
+    return e, ftot
 
 
 @njit(cache=True)
@@ -217,17 +243,19 @@ def coulomb_friction(r, par, Nw, F, Ff, stuck):
 
 @njit(cache=True)
 def conservative_loads(r, t, par, Fm, Fp, F, M, Nw):
-    """All conservative forces and torques; returns (energy, F_z at the support)."""
+    """All conservative forces and torques; returns (energy, F_z at the support,
+    z force of the floor on the rod)."""
     Fm[:, :] = 0.0
     Fp[:, :] = 0.0
     M[:, :] = 0.0
     e = bond_forces(r, t, par, Fm, Fp)
     e += wall_forces(r, t, par, Fm, Fp, Nw)
+    ef, f_floor = floor_forces(r, t, par, Fm, Fp)
     eb, fz_support = boundary_forces(r, t, par, Fm, Fp)
-    e += eb
+    e += ef + eb
     e += bending_torques(t, par, M)
     e += collect_link_loads(r, t, par, Fm, Fp, F, M)
-    return e, fz_support
+    return e, fz_support, f_floor
 
 
 @njit(cache=True)

@@ -21,6 +21,9 @@ def total_energy(r: np.ndarray, t: np.ndarray, par: np.ndarray) -> float:
     rho = np.hypot(ends[:, 0], ends[:, 1])
     over = np.where((rho > par[K.R_WALL]) & (ends[:, 2] <= par[K.Z_TOP]), rho - par[K.R_WALL], 0.0)
     e += 0.5 * par[K.K_WALL] * np.sum(over**2)
+    if par[K.FLOOR] > 0.5:
+        zs = np.concatenate([rm[1:, 2], rp[:, 2]])
+        e += 0.5 * par[K.K_WALL] * np.sum(np.minimum(zs, 0.0) ** 2)
     e += par[K.LOAD] * rp[-1, 2]
     ks = par[K.K_SUP]
     if par[K.LOWER_HELD] > 0.5:

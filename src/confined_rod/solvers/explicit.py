@@ -62,16 +62,17 @@ class RunState:
     stage_converged: list = field(default_factory=list)
 
 
-def evaluate(scene: Scene, par: np.ndarray, r: np.ndarray, t: np.ndarray, ws: Workspace) -> float:
+def evaluate(scene: Scene, par: np.ndarray, r: np.ndarray, t: np.ndarray,
+             ws: Workspace) -> tuple[float, float]:
     """All forces on the current state (friction included when k_fr > 0);
-    returns F_z at the support."""
-    _, fz_support = K.conservative_loads(r, t, par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)
+    returns (F_z at the support, z force of the floor on the rod)."""
+    _, fz_support, f_floor = K.conservative_loads(r, t, par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)
     if scene.k_fr > 0.0:
         K.coulomb_friction(r, par, ws.Nw, ws.F, ws.Ff, ws.stuck)
     else:
         ws.Ff[:] = 0.0
         ws.stuck[:] = 0.0
-    return fz_support
+    return fz_support, f_floor
 
 
 def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[float, float]:

@@ -1,0 +1,59 @@
+"""Stopping rules (escape, time cap, divergence) and the protocols."""
+import numpy as np
+import pytest
+
+from confined_rod import DivergenceError, Scene, simulate
+from confined_rod.solvers import explicit
+
+
+def test_escape_stops_the_run():
+    # the top 2 R of the rod stand out of the pore; a load of 2 EI/R^2 (8x the
+    # Euler load of a 2 R free-standing piece) throws it sideways out of the pore
+    ds = simulate(Scene(L=10.0, pore_length=8.0, load=2.0, t_max=2000.0, tol=1e-4), progress=False)
+    assert int(ds.escaped) == 1 and int(ds.converged) == 0
+    assert float(ds.t_final) < 100.0
+
+
+def test_time_cap_flags_not_converged():
+    ds = simulate(Scene(L=10.0, load=0.5, t_max=5.0), progress=False)
+    assert int(ds.converged) == 0 and int(ds.escaped) == 0
+    assert float(ds.t_final) == pytest.approx(5.0, rel=1e-3)
+    assert float(ds.residual_force) > ds.attrs["tol"]
+
+
+def test_bonds_tearing_apart_is_reported_as_divergence():
+    # k_ph = 0.5: the load 1 compresses each bond by load l0/k_ph = l0, > l0/2
+    with pytest.raises(DivergenceError, match=r"scene 'soft'.*step \d+.*bond gap"):
+        simulate(Scene(L=4.0, load=1.0, k_ph=0.5, name="soft"), progress=False)
+
+
+def test_unstable_time_step_is_reported_as_divergence(monkeypatch):
+    monkeypatch.setattr(Scene, "dt", lambda self: 50 * self.constants().dt_stable)
+    with pytest.raises(DivergenceError, match=r"scene 'big-step'.*diverged at step \d+ \(t = "):
+        simulate(Scene(L=4.0, load=0.5, name="big-step"), progress=False)
+
+
+def test_planar_protocol_stays_planar_and_touches_the_wall():
+    ds = simulate(Scene(L=20.0, load=0.25, k_fr=0.8, protocol="planar", tol=1e-4), progress=False)
+    assert int(ds.converged) == 1
+    assert np.all(ds.y.values == 0.0)  # exact: every force stays in the x-z plane
+    assert int(ds.contact.sum()) >= 2
+    assert np.abs(ds.x).max() > 0.9
+
+
+def test_planar_then_3d_leaves_the_plane_and_records_both_stages():
+    sc = Scene(L=12.0, load=0.5, k_fr=0.0, protocol="planar_then_3d", tol=1e-4, snapshot_interval=20.0)
+    st = explicit.run(sc, progress=False)
+    assert len(st.stage_converged) == 2
+    assert st.stage_converged[0]
+    planar = [r for tt, r in zip(st.snapshot_times, st.snapshot_r)]
+    assert np.all(planar[0][:, 1] == 0.0)
+    assert np.abs(st.r[:, 1]).max() > 0.5  # the final state is three-dimensional
+
+
+def test_snapshots_only_when_asked():
+    plain = simulate(Scene(L=6.0, load=0.5, t_max=20.0), progress=False)
+    assert "time" not in plain.dims and "snap_x" not in plain
+    snap = simulate(Scene(L=6.0, load=0.5, t_max=20.0, snapshot_interval=5.0), progress=False)
+    assert snap.sizes["time"] >= 4
+    np.testing.assert_allclose(snap.snap_x.isel(time=-1), snap.x)
