@@ -3,7 +3,7 @@ the velocity Coulomb's law predicts.
 
 Set-up with an analytic answer: a straight rod of length L pressed against the
 wall by a body force p per unit length (so N = p l0 on every link), lower end
-free, pushed axially by T.  The friction capacity of the whole rod is
+free and no floor (nothing but friction holds it), pushed axially by T.  The friction capacity of the whole rod is
 k_fr p L.  Below it the rod must come to rest and stay there exactly; above it
 every link slides at the limit and the rod moves at v = (T - k_fr p L)/(beta_ph L).
 """
@@ -18,7 +18,8 @@ P, KFR, L = 0.1, 0.5, 4.0  # capacity k_fr p L = 0.2
 
 def scene(T, tol=1e-8):
     return Scene(L=L, l0=0.5, load=T, k_fr=KFR, friction_cap=0.0, body_force=(P, 0.0, 0.0),
-                 lower_end="free", perturbation=1e-6, k_ph=200.0, tol=tol, name=f"T={T}")
+                 lower_end="free", floor=False, perturbation=1e-6, k_ph=200.0, tol=tol,
+                 name=f"T={T}")
 
 
 def test_below_the_limit_the_rod_sticks_and_never_creeps():

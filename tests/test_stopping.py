@@ -1,4 +1,8 @@
-"""Stopping rules (escape, time cap, divergence) and the protocols."""
+"""Stopping rules (escape, time cap, divergence) and the protocols.
+
+Thresholds here are qualitative on purpose: an escape happens within a few
+time units of bending relaxation of a 2 R piece (EI q^4 ~ 6), far below 100;
+a planar state touching the wall has |x| = R up to the penalty penetration."""
 import numpy as np
 import pytest
 
@@ -46,14 +50,17 @@ def test_planar_then_3d_leaves_the_plane_and_records_both_stages():
     st = explicit.run(sc, progress=False)
     assert len(st.stage_converged) == 2
     assert st.stage_converged[0]
-    planar = [r for tt, r in zip(st.snapshot_times, st.snapshot_r)]
-    assert np.all(planar[0][:, 1] == 0.0)
+    assert np.all(st.snapshot_r[0][:, 1] == 0.0)
     assert np.abs(st.r[:, 1]).max() > 0.5  # the final state is three-dimensional
 
 
 def test_snapshots_only_when_asked():
     plain = simulate(Scene(L=6.0, load=0.5, t_max=20.0), progress=False)
     assert "time" not in plain.dims and "snap_x" not in plain
-    snap = simulate(Scene(L=6.0, load=0.5, t_max=20.0, snapshot_interval=5.0), progress=False)
-    assert snap.sizes["time"] >= 4
+    snap = simulate(Scene(L=6.0, load=0.5, t_max=20.0, snapshot_interval=2.0), progress=False)
+    times = snap.time.values
+    # one snapshot every 2 time units (to within a step), plus the final state
+    n_regular = int(np.floor(float(snap.t_final) / 2.0)) + 1
+    assert snap.sizes["time"] in (n_regular, n_regular + 1)
+    np.testing.assert_allclose(times[:n_regular], 2.0 * np.arange(n_regular), atol=2 * snap.attrs["dt"])
     np.testing.assert_allclose(snap.snap_x.isel(time=-1), snap.x)

@@ -96,7 +96,7 @@ class Scene:
     k_ph: float | None = None
     k_w: float | None = None
     solver: str = "explicit"
-    dt_factor: float = 0.5
+    dt_factor: float = 0.8
     tol: float = 1e-5
     t_max: float | None = None
     rotational_drag: str = "paper"

@@ -299,15 +299,44 @@ def euler_update(r, t, F, M, dt, par):
 
 
 @njit(cache=True)
+def escaped(r, t, par):
+    """True if a link end is above the open pore entrance and more than 0.1 R
+    outside the pore radius: it has left the pore (the block around the pore
+    would stop it from coming back below the entrance)."""
+    h = par[HALF]
+    lim = 1.1 * par[R_WALL]
+    for i in range(r.shape[0]):
+        for sgn in (-1.0, 1.0):
+            z = r[i, 2] + sgn * h * t[i, 2]
+            if z > par[Z_TOP]:
+                x = r[i, 0] + sgn * h * t[i, 0]
+                y = r[i, 1] + sgn * h * t[i, 1]
+                if x * x + y * y > lim * lim:
+                    return True
+    return False
+
+
+STEPS_DONE = 0  # explicit_steps stops early with one of these codes
+STOP_NONFINITE = 1
+STOP_ESCAPED = 2
+ESCAPE_CHECK_EVERY = 32
+
+
+@njit(cache=True)
 def explicit_steps(r, t, par, dt, nsteps, Fm, Fp, F, M, Nw, Ff, stuck):
-    """``nsteps`` explicit Euler steps; friction only when k_fr > 0.
-    Returns the number of steps done (fewer if a value became non-finite)."""
+    """Up to ``nsteps`` explicit Euler steps; friction only when k_fr > 0.
+    Returns (steps done, code): STEPS_DONE, or STOP_NONFINITE / STOP_ESCAPED
+    when a value became non-finite / the rod left the pore (checked every
+    ESCAPE_CHECK_EVERY steps, so the escape is caught within a few dt)."""
     use_friction = par[K_FR] > 0.0
+    n_last = r.shape[0] - 1
     for n in range(nsteps):
         conservative_loads(r, t, par, Fm, Fp, F, M, Nw)
         if use_friction:
             coulomb_friction(r, par, Nw, F, Ff, stuck)
         euler_update(r, t, F, M, dt, par)
-        if not np.isfinite(r[0, 0] + r[r.shape[0] - 1, 2] + t[r.shape[0] // 2, 0]):
-            return n + 1
-    return nsteps
+        if not np.isfinite(r[0, 0] + r[n_last, 2] + t[n_last // 2, 0] + F[n_last // 2, 1]):
+            return n + 1, STOP_NONFINITE
+        if n % ESCAPE_CHECK_EVERY == 0 and escaped(r, t, par):
+            return n + 1, STOP_ESCAPED
+    return nsteps, STEPS_DONE

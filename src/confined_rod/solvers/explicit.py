@@ -81,8 +81,8 @@ def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[fl
     return fmax / scale, mmax / (scale * scene.R)
 
 
-def check_state(scene: Scene, r: np.ndarray, t: np.ndarray, step: int, time: float) -> bool:
-    """Raise DivergenceError on a diverged state; return True if the rod escaped."""
+def check_state(scene: Scene, r: np.ndarray, t: np.ndarray, step: int, time: float) -> None:
+    """Raise DivergenceError on a diverged state."""
     where = f"scene {scene.name!r}: run diverged at step {step} (t = {time:.6g})"
     if not (np.all(np.isfinite(r)) and np.all(np.isfinite(t))):
         raise DivergenceError(f"{where}: non-finite positions or tangents; "
@@ -98,8 +98,6 @@ def check_state(scene: Scene, r: np.ndarray, t: np.ndarray, step: int, time: flo
     rho = np.hypot(ends[:, 0], ends[:, 1])
     if rho.max() > 100.0 * scene.R:
         raise DivergenceError(f"{where}: a link end is {rho.max():.3g} from the axis (runaway)")
-    above = ends[:, 2] > scene.pore_length
-    return bool(np.any(above & (rho > 1.1 * scene.R)))
 
 
 def relax(scene: Scene, st: RunState, *, t_end: float | None = None, progress: bool = True,
@@ -122,11 +120,14 @@ def relax(scene: Scene, st: RunState, *, t_end: float | None = None, progress: b
             st.snapshot_r.append(st.r.copy())
             st.snapshot_t.append(st.t.copy())
             next_snap += snap_dt * max(1, np.floor((st.time - next_snap) / snap_dt) + 1)
-        nsteps = int(min(chunk, max(1, np.ceil((t_cap - st.time) / dt))))
-        done = K.explicit_steps(st.r, st.t, par, dt, nsteps, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, ws.Ff, ws.stuck)
+        t_stop = min(t_cap, next_snap) if snap_dt > 0 else t_cap
+        nsteps = int(min(chunk, max(1, np.ceil((t_stop - st.time) / dt - 1e-9))))
+        done, code = K.explicit_steps(st.r, st.t, par, dt, nsteps, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw,
+                                      ws.Ff, ws.stuck)
         st.steps += done
         st.time += done * dt
-        st.escaped = check_state(scene, st.r, st.t, st.steps, st.time)
+        check_state(scene, st.r, st.t, st.steps, st.time)
+        st.escaped = code == K.STOP_ESCAPED
         evaluate(scene, par, st.r, st.t, ws)
         st.eps_F, st.eps_M = normalised_residuals(scene, st.t, ws)
         now = _time.perf_counter()
