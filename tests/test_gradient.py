@@ -11,8 +11,8 @@ import pytest
 
 from confined_rod import Scene
 from confined_rod.model import kernels as K
+from confined_rod.model.forces import Workspace
 from confined_rod.model.reference import total_energy
-from confined_rod.solvers.explicit import Workspace
 
 from .conftest import random_state
 

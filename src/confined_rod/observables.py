@@ -10,9 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import kernels as K
+from .model.forces import Workspace, evaluate
 from .scenes import Scene
-from .solvers.explicit import Workspace, evaluate
 
 
 @dataclass
@@ -54,7 +53,7 @@ def contact_stretch(contact: np.ndarray) -> slice:
 def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
     par = scene.params()
     ws = Workspace.for_links(scene.N)
-    fz_support, f_floor = evaluate(scene, par, r, t, ws)
+    fz_support, f_floor = evaluate(par, r, t, ws)
     F_z = axial_forces(scene, r, t, fz_support)
     s = np.arange(scene.N + 1) * scene.l0
     order = np.arange(scene.N)[::-1]  # link index from the loaded end

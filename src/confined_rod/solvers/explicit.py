@@ -25,23 +25,8 @@ import numpy as np
 
 from ..errors import DivergenceError
 from ..model import kernels as K
+from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
-
-
-@dataclass
-class Workspace:
-    Fm: np.ndarray
-    Fp: np.ndarray
-    F: np.ndarray
-    M: np.ndarray
-    Nw: np.ndarray
-    Ff: np.ndarray
-    stuck: np.ndarray
-
-    @classmethod
-    def for_links(cls, n: int) -> "Workspace":
-        z3 = lambda: np.zeros((n, 3))  # noqa: E731
-        return cls(z3(), z3(), z3(), z3(), np.zeros(n), z3(), np.zeros(n))
 
 
 @dataclass
@@ -60,19 +45,6 @@ class RunState:
     snapshot_r: list = field(default_factory=list)
     snapshot_t: list = field(default_factory=list)
     stage_converged: list = field(default_factory=list)
-
-
-def evaluate(scene: Scene, par: np.ndarray, r: np.ndarray, t: np.ndarray,
-             ws: Workspace) -> tuple[float, float]:
-    """All forces on the current state (friction included when k_fr > 0);
-    returns (F_z at the support, z force of the floor on the rod)."""
-    _, fz_support, f_floor = K.conservative_loads(r, t, par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)
-    if scene.k_fr > 0.0:
-        K.coulomb_friction(r, par, ws.Nw, ws.F, ws.Ff, ws.stuck)
-    else:
-        ws.Ff[:] = 0.0
-        ws.stuck[:] = 0.0
-    return fz_support, f_floor
 
 
 def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[float, float]:
@@ -128,7 +100,7 @@ def relax(scene: Scene, st: RunState, *, t_end: float | None = None, progress: b
         st.time += done * dt
         check_state(scene, st.r, st.t, st.steps, st.time)
         st.escaped = code == K.STOP_ESCAPED
-        evaluate(scene, par, st.r, st.t, ws)
+        evaluate(par, st.r, st.t, ws)
         st.eps_F, st.eps_M = normalised_residuals(scene, st.t, ws)
         now = _time.perf_counter()
         if progress and now - t0 > 3.0 and now - last_report > 2.0:
