@@ -64,3 +64,13 @@ def test_snapshots_only_when_asked():
     assert snap.sizes["time"] in (n_regular, n_regular + 1)
     np.testing.assert_allclose(times[:n_regular], 2.0 * np.arange(n_regular), atol=2 * snap.attrs["dt"])
     np.testing.assert_allclose(snap.snap_x.isel(time=-1), snap.x)
+
+
+def test_progress_is_reported_on_stderr(monkeypatch, capsys):
+    monkeypatch.setattr(explicit, "PROGRESS_AFTER_S", 0.0)
+    monkeypatch.setattr(explicit, "PROGRESS_EVERY_S", 0.0)
+    simulate(Scene(L=6.0, load=0.5, t_max=20.0, name="chatty"), progress=True)
+    err = capsys.readouterr().err
+    assert "[chatty] t = " in err and "eps_F" in err
+    simulate(Scene(L=6.0, load=0.5, t_max=20.0, name="quiet"), progress=False)
+    assert capsys.readouterr().err == ""

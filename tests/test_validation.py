@@ -66,6 +66,13 @@ def test_cli_rejects_bad_scene_and_writes_nothing(tmp_path, content, needle):
     assert list(tmp_path.iterdir()) == [scene]
 
 
+def test_yaml_scientific_notation_is_a_number(tmp_path):
+    path = tmp_path / "sci.yaml"
+    path.write_text("L: 10\nload: 2.5e-1\nk_w: 1e3\n")  # YAML 1.1 reads '1e3' as a string
+    s = Scene.from_yaml(path)
+    assert s.k_w == 1000.0 and s.load == 0.25 and s.name == "sci"
+
+
 def test_cli_runs_a_scene(tmp_path):
     import xarray as xr
 

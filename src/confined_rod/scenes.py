@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -33,6 +34,8 @@ DEFAULT_FRICTION_CAP = 0.1  # EI/R^3, friction per unit length; 8x the bulk k_fr
 DEFAULT_PERTURBATION = 1e-3  # R
 DEFAULT_KICK = 0.1  # R
 DEFAULT_T_MAX = 2e5  # beta_ph R^4/EI
+
+_SCI = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+$")
 
 PROTOCOLS = ("straight", "planar", "planar_then_3d")
 ENDS = ("free", "pinned")
@@ -186,8 +189,10 @@ class Scene:
             raise SceneError(f"scene file {str(path)!r} is not valid YAML: {exc}") from None
         if data is None:
             data = {}
-        if isinstance(data, dict) and "name" not in data:
-            data = {**data, "name": path.stem}
+        if isinstance(data, dict):
+            # PyYAML (YAML 1.1) reads 1e-3 as a string; accept it as the number it is
+            data = {k: float(v) if isinstance(v, str) and _SCI.match(v) else v for k, v in data.items()}
+            data.setdefault("name", path.stem)
         return cls.from_dict(data)
 
 

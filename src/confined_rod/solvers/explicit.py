@@ -29,6 +29,10 @@ from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
 
 
+PROGRESS_AFTER_S = 3.0  # report progress on stderr once a run has taken this long ...
+PROGRESS_EVERY_S = 2.0  # ... and then this often
+
+
 @dataclass
 class RunState:
     """Everything a run carries from stage to stage."""
@@ -103,7 +107,7 @@ def relax(scene: Scene, st: RunState, *, t_end: float | None = None, progress: b
         evaluate(par, st.r, st.t, ws)
         st.eps_F, st.eps_M = normalised_residuals(scene, st.t, ws)
         now = _time.perf_counter()
-        if progress and now - t0 > 3.0 and now - last_report > 2.0:
+        if progress and now - t0 > PROGRESS_AFTER_S and now - last_report > PROGRESS_EVERY_S:
             last_report = now
             print(f"[{scene.name}{label}] t = {st.time:.4g} / {t_cap:.4g}, steps = {st.steps}, "
                   f"eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} (tol {scene.tol:.1e}), "
