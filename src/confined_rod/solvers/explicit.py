@@ -28,7 +28,6 @@ from ..model import kernels as K
 from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
 
-
 PROGRESS_AFTER_S = 3.0  # report progress on stderr once a run has taken this long ...
 PROGRESS_EVERY_S = 2.0  # ... and then this often
 
