@@ -58,3 +58,19 @@ def test_helix_relation_limits():
     w1, K1 = helix_frictionless(0.5)
     assert w2 * 2.0 == pytest.approx(w1, rel=1e-12)
     assert K2 / (3.0 / 8.0) == pytest.approx(K1, rel=1e-12)
+
+
+def test_equilibrium_does_not_depend_on_the_rotational_drag():
+    """The drags set the path, not the equilibrium (frictionless, so the path
+    cannot select among jammed states). With tol = 1e-5 the force profile is
+    within tol*load = 5e-6 of the exact equilibrium for each run, hence 1e-5 between
+    them; measured: 4e-7 (F_z), 3e-7 (wall force), 2e-6 R (L_z)."""
+    runs = [simulate(Scene(L=10.0, load=0.5, k_fr=0.0, tol=1e-5, rotational_drag=d), progress=False)
+            for d in ("paper", "rigid_link")]
+    a, b = runs
+    assert int(a.converged) and int(b.converged)
+    assert a.attrs["gamma_r"] != b.attrs["gamma_r"]
+    assert int(a.contact.sum()) == int(b.contact.sum()) > 0
+    np.testing.assert_allclose(a.F_z.values, b.F_z.values, atol=1e-5)
+    np.testing.assert_allclose(a.wall_force.values, b.wall_force.values, atol=1e-5)
+    assert float(a.L_z) == pytest.approx(float(b.L_z), rel=1e-5)
