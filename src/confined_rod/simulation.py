@@ -68,7 +68,6 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     params.update({"N": c.N, "C": c.C, "k": c.k, "k_support": c.k_support, "beta": c.beta,
                    "gamma_r": c.gamma_r, "dt": scene.dt(), "dt_stable_estimate": c.dt_stable,
                    "stage_converged": [int(v) for v in st.stage_converged]})
-    params = {f"scene_{k}" if k in data or k in coords else k: v for k, v in params.items()}
     title = (f"Confined elastic rod '{scene.name}': L/R = {scene.L / scene.R:g}, "
              f"load = {scene.load * scene.R**2 / scene.EI:g} EI/R^2, k_fr = {scene.k_fr:g}")
     return finalize(ds, title, params)

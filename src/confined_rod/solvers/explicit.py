@@ -46,8 +46,11 @@ class RunState:
     eps_M: float = np.inf
     snapshot_times: list = field(default_factory=list)
     snapshot_r: list = field(default_factory=list)
-    snapshot_t: list = field(default_factory=list)
     stage_converged: list = field(default_factory=list)
+
+    def take_snapshot(self) -> None:
+        self.snapshot_times.append(self.time)
+        self.snapshot_r.append(self.r.copy())
 
 
 def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[float, float]:
@@ -91,9 +94,7 @@ def relax(scene: Scene, st: RunState, *, t_end: float | None = None, progress: b
     st.converged = False
     while True:
         if snap_dt > 0 and st.time >= next_snap - 1e-12:
-            st.snapshot_times.append(st.time)
-            st.snapshot_r.append(st.r.copy())
-            st.snapshot_t.append(st.t.copy())
+            st.take_snapshot()
             next_snap += snap_dt * max(1, np.floor((st.time - next_snap) / snap_dt) + 1)
         t_stop = min(t_cap, next_snap) if snap_dt > 0 else t_cap
         nsteps = int(min(chunk, max(1, np.ceil((t_stop - st.time) / dt - 1e-9))))
@@ -119,9 +120,7 @@ def relax(scene: Scene, st: RunState, *, t_end: float | None = None, progress: b
         if st.time >= t_cap * (1 - 1e-12):
             break
     if snap_dt > 0 and (not st.snapshot_times or st.snapshot_times[-1] < st.time):
-        st.snapshot_times.append(st.time)
-        st.snapshot_r.append(st.r.copy())
-        st.snapshot_t.append(st.t.copy())
+        st.take_snapshot()
     st.stage_converged.append(st.converged)
     return st
 
