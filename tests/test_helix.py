@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from confined_rod import Scene, simulate
-from confined_rod.observables import helix_frictionless
+from confined_rod.theory import helix_frictionless
 
 L, LOAD = 30.0, 0.5
 

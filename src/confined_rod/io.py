@@ -58,6 +58,8 @@ def netcdf_attr(value: Any) -> Any:
     if isinstance(value, bool):
         return int(value)
     if isinstance(value, (list, tuple)):
+        if all(isinstance(v, str) for v in value):
+            return ", ".join(value)
         return np.asarray(value, dtype=float)
     return value
 

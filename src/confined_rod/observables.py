@@ -74,23 +74,3 @@ def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
         stuck=ws.stuck[order].astype(np.int8), s_helix=s_helix, phi=phi, dphi_ds=dphi,
         L_z=L_z, F_transmitted=float(f_floor - F_z[-1]),
     )
-
-
-def helix_frictionless(load: float, R: float = 1.0, EI: float = 1.0) -> tuple[float, float]:
-    """Bulk pitch rate omega = dphi/ds and wall force per length K of a
-    frictionless helix on the wall with no torque at the free ends (docs/model.md):
-        2 EI omega^2 sqrt(1 - R^2 omega^2) = |F_z|,   K = EI R omega^4.
-    To lowest order omega^2 = |F_z|/(2EI) and K = R F_z^2/(4 EI)."""
-    # solve 2 EI w^2 sqrt(1 - R^2 w^2) = F for the small root by bisection on u = (R w)^2
-    f = load * R * R / (2.0 * EI)
-    if f > 2.0 / (3.0 * np.sqrt(3.0)):
-        raise ValueError(f"no helix on the wall for load {load} (max 4 EI/(3 sqrt(3) R^2))")
-    lo, hi = 0.0, 2.0 / 3.0  # u sqrt(1-u) increases on [0, 2/3]
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if mid * np.sqrt(1.0 - mid) < f:
-            lo = mid
-        else:
-            hi = mid
-    omega = np.sqrt(0.5 * (lo + hi)) / R
-    return float(omega), float(EI * R * omega**4)

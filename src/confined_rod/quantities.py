@@ -58,6 +58,29 @@ _Q = [
     Quantity("t_final", "t_{end}", "simulated time at the end of the run", "beta_ph R4 EI-1"),
     Quantity("n_steps", "", "number of time steps taken", "1"),
     Quantity("wall_time", "", "wall-clock time of the run", "s"),
+    # derived (per-figure datasets)
+    Quantity("F_abs", "|F_z|", "magnitude of the axial (compressive) force", "EI R-2"),
+    Quantity("n_contact", "n_{wall}", "number of links touching the wall", "1"),
+    Quantity("n_turns", "n_{turns}", "turns of the wall-contact stretch about the axis |phi_end - phi_start|/(2 pi)",
+             "1"),
+    Quantity("L_model", "L", "contour length of the rod (analytic curve)", "R"),
+    Quantity("F_simple", "|F_z|", "axial force of the simple helix model, corrected: K = R F^2/(4 EI)", "EI R-2"),
+    Quantity("F_simple_paper", "|F_z|", "axial force of the simple helix model as printed: K = R F^2/(2 EI)",
+             "EI R-2"),
+    Quantity("F_fit", "f", "power-law fit A (l0' + s)^c of |F_z(s)|", "EI R-2"),
+    Quantity("in_fit", "", "joint inside the fit window (1) or not (0)", "1"),
+    Quantity("fit_A", "A", "prefactor A of the fit A (l0' + s)^c", "EI R-2 R-c"),
+    Quantity("fit_l0", "l_0'", "offset l0' of the fit A (l0' + s)^c", "R"),
+    Quantity("fit_c", "c", "exponent c of the fit A (l0' + s)^c", "1"),
+    Quantity("fit_cov", "", "covariance of the fit parameters (A, l0', c)", "mixed"),
+    Quantity("fit_rms", "", "rms relative residual of the fit in its window", "1"),
+    Quantity("s_h", "s_h", "arc length of the first link touching the wall (start of the helix)", "R"),
+    Quantity("s_end", "s_e", "arc length of the last link touching the wall", "R"),
+    Quantity("panel_value", "", "value of the parameter that differs between the panels", "1"),
+    Quantity("n_fit", "", "number of joints in the fit window", "1"),
+    Quantity("scene", "", "scene id in the config", "1"),
+    Quantity("panel", "", "panel (scene id in the config)", "1"),
+    Quantity("param", "", "fit parameter", "1"),
     Quantity("snap_x", "x", "x coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_y", "y", "y coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_z", "z", "z coordinate of the link centre (snapshot)", "R"),
@@ -70,6 +93,12 @@ def attrs(name: str) -> dict[str, str]:
     """CF attributes (units, long_name) of a quantity."""
     q = QUANTITIES[name]
     return {"units": q.units, "long_name": q.long_name}
+
+
+def error_attrs(name: str) -> dict[str, str]:
+    """CF attributes of the standard error of a quantity."""
+    q = QUANTITIES[name]
+    return {"units": q.units, "long_name": f"standard error of the {q.long_name}"}
 
 
 def label(name: str, unit_text: str | None = None) -> str:

@@ -1,0 +1,194 @@
+"""The figure -> scenes -> parameters configuration of the reproduction pipeline.
+
+Plain Python: the Snakemake workflow (workflow/) imports this module, the
+package never imports Snakemake.  A config is a mapping
+
+    scene_defaults: {<Scene field>: value, ...}          # optional, every scene
+    figures:
+      <figure id>:
+        kind: transmitted_force | force_profile
+        paper_figure: <number in the paper>
+        title: <one line>
+        defaults: {<Scene field>: value, ...}            # every scene of this figure
+        scenes:
+          <scene id>: {<Scene field>: value, ...}
+        ... kind-specific entries (panel_parameter, fit_trim)
+
+A scene's parameters are scene_defaults, then the figure's defaults, then its
+own entries.  The JSON schema (workflow/schemas/config.schema.yaml) checks
+types and keys; :func:`validate` builds every Scene (so every value passes the
+physics validation) and checks the figure-kind rules, all before any job runs.
+"""
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+from typing import Any
+
+from .scenes import Scene, SceneError
+
+FIGURE_KINDS = ("transmitted_force", "force_profile")
+RESULTS = Path("results")
+
+
+class ConfigError(ValueError):
+    """Invalid pipeline configuration; the message names the config path and the value."""
+
+
+def figures(config: dict[str, Any]) -> list[str]:
+    return list(config.get("figures", {}))
+
+
+def scenes(config: dict[str, Any], figure: str) -> list[str]:
+    return list(config["figures"][figure].get("scenes", {}))
+
+
+def scene_params(config: dict[str, Any], figure: str, scene: str) -> dict[str, Any]:
+    """Merged Scene parameters of one scene of one figure (name = '<figure>/<scene>')."""
+    fig = config["figures"][figure]
+    params: dict[str, Any] = {}
+    params.update(config.get("scene_defaults") or {})
+    params.update(fig.get("defaults") or {})
+    params.update(fig["scenes"][scene] or {})
+    params["name"] = f"{figure}/{scene}"
+    return params
+
+
+def build_scene(config: dict[str, Any], figure: str, scene: str) -> Scene:
+    try:
+        return Scene.from_dict(scene_params(config, figure, scene))
+    except (SceneError, TypeError) as e:
+        raise ConfigError(f"figures.{figure}.scenes.{scene}: {e}") from None
+
+
+# -- file layout ----------------------------------------------------------------
+def sim_path(figure: str, scene: str) -> str:
+    return str(RESULTS / "sims" / figure / f"{scene}.nc")
+
+
+def dataset_path(figure: str) -> str:
+    return str(RESULTS / "datasets" / f"{figure}.nc")
+
+
+def figure_paths(figure: str) -> tuple[str, str]:
+    return str(RESULTS / "figures" / f"{figure}.pdf"), str(RESULTS / "figures" / f"{figure}.png")
+
+
+def canonical_scene(config: dict[str, Any], figure: str, scene: str) -> tuple[str, str]:
+    """The first declared (figure, scene) with exactly the same parameters, so that a rod
+    shared by several figures (e.g. Fig 4(c) and a point of Fig 6) is simulated once."""
+    mine = _key(scene_params(config, figure, scene))
+    for f in figures(config):
+        for s in scenes(config, f):
+            if _key(scene_params(config, f, s)) == mine:
+                return f, s
+    raise KeyError(f"{figure}/{scene}")  # unreachable: the scene finds itself
+
+
+def _key(params: dict[str, Any]) -> str:
+    try:
+        d = Scene.from_dict(params).to_dict()
+    except (SceneError, TypeError):
+        d = dict(params)
+    d.pop("name", None)
+    return repr(sorted(d.items()))
+
+
+def figure_sims(config: dict[str, Any], figure: str) -> list[str]:
+    """Scene dataset files of a figure, in its scene order (shared scenes point to one file)."""
+    return [sim_path(*canonical_scene(config, figure, s)) for s in scenes(config, figure)]
+
+
+def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
+    """Every artifact a full run of this config produces, by kind."""
+    out: dict[str, list[str]] = {"sims": [], "datasets": [], "figures": []}
+    for f in figures(config):
+        out["sims"] += [p for p in figure_sims(config, f) if p not in out["sims"]]
+        out["datasets"].append(dataset_path(f))
+        out["figures"] += list(figure_paths(f))
+    return out
+
+
+# -- validation -----------------------------------------------------------------
+def validate(config: dict[str, Any]) -> None:
+    """Build every scene and check the figure-kind rules; raise ConfigError naming the entry."""
+    if not figures(config):
+        raise ConfigError("config has no figures: nothing to build")
+    for f in figures(config):
+        fig = config["figures"][f]
+        kind = fig.get("kind")
+        if kind not in FIGURE_KINDS:
+            raise ConfigError(f"figures.{f}.kind: {kind!r} is not one of {', '.join(FIGURE_KINDS)}")
+        names = scenes(config, f)
+        if not names:
+            raise ConfigError(f"figures.{f}.scenes: a figure needs at least one scene")
+        built = {s: build_scene(config, f, s) for s in names}
+        if kind == "transmitted_force":
+            _same_except(f, built, ("L", "pore_length"), "a transmitted-force figure varies only L")
+            if len(names) < 2:
+                raise ConfigError(f"figures.{f}.scenes: a transmitted-force curve needs at least 2 lengths")
+        elif kind == "force_profile":
+            p = fig.get("panel_parameter")
+            if p is not None and p not in Scene.__dataclass_fields__:
+                raise ConfigError(f"figures.{f}.panel_parameter: {p!r} is not a Scene field")
+            varied = (p,) if p else ()
+            _same_except(f, built, varied, f"the panels of a force-profile figure differ only in "
+                                           f"panel_parameter ({p!r})")
+            if p and len({getattr(s, p) for s in built.values()}) != len(built):
+                raise ConfigError(f"figures.{f}.scenes: two panels have the same {p} value")
+
+
+def _same_except(figure: str, built: dict[str, Scene], varied: tuple[str, ...], why: str) -> None:
+    ref_name, ref = next(iter(built.items()))
+    for name, sc in built.items():
+        for key in Scene.__dataclass_fields__:
+            if key in varied or key == "name":
+                continue
+            if getattr(sc, key) != getattr(ref, key):
+                raise ConfigError(f"figures.{figure}.scenes.{name}: {key} = {getattr(sc, key)!r} differs from "
+                                  f"{getattr(ref, key)!r} in scene {ref_name!r}; {why}")
+
+
+def caption(config: dict[str, Any], figure: str) -> str:
+    """Plain-text caption: what the figure shows and with which parameters."""
+    fig = config["figures"][figure]
+    built = [build_scene(config, figure, s) for s in scenes(config, figure)]
+    sc = built[0]
+    common = (f"R = {sc.R:g}, EI = {sc.EI:g}, load |F_z(0)| = {sc.load:g} EI/R^2, "
+              f"friction cap {sc.friction_cap:g} EI/R^3, protocol '{sc.protocol}', seed {sc.seed}, "
+              f"perturbation {sc.perturbation:g} R; numerics: l0 = {sc.l0:g} R, k_ph = {sc.k_ph:g} EI/R^2, "
+              f"k_w = {sc.k_w:g} EI/R^3, solver '{sc.solver}', tol = {sc.tol:g}")
+    head = f"{fig.get('title', figure)} (paper Fig. {fig.get('paper_figure', '?')})."
+    if fig["kind"] == "transmitted_force":
+        Ls = ", ".join(f"{s.L:g}" for s in built)
+        body = (f" Force |F_z(L)| transmitted to the lower piston against the rod length L/R = {Ls}, "
+                f"k_fr = {sc.k_fr:g}; symbols: simulations (open = not converged), lines: the simple model "
+                f"|F_z(L)| = (1/|F_z(0)| + k_fr R L/(4EI))^-1 (dashed, corrected) and the paper's form with "
+                f"2EI (dotted); grey line: eye guide.")
+    else:
+        p = fig.get("panel_parameter")
+        body = f" Axial force |F_z(s)| along the rod (s from the loaded end), L/R = {sc.L:g}"
+        if p:
+            body += ". Panels: " + "; ".join(f"({chr(97 + i)}) {p} = {getattr(s, p):g}"
+                                             for i, s in enumerate(built)) + "."
+        else:
+            body += f", k_fr = {sc.k_fr:g}."
+        body += (" Black: simulation; red: fit A (l0' + s)^c over the wall-contact stretch "
+                 f"(trimmed by {fig.get('fit_trim', 0):g} R at each end; values and standard errors in the "
+                 "legend and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
+                 "from the first wall contact s_h; grey dotted: the same with the paper's 2EI.")
+    return head + body + " Parameters: " + common + "."
+
+
+@contextlib.contextmanager
+def logged(path: str | Path):
+    """Send stdout, stderr and any traceback of the block to the log file ``path``."""
+    import traceback
+
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", buffering=1) as log, contextlib.redirect_stdout(log), contextlib.redirect_stderr(log):
+        try:
+            yield log
+        except BaseException:
+            traceback.print_exc(file=log)
+            raise

@@ -1,0 +1,143 @@
+"""Figures from the per-figure datasets (styling only: no physics here).
+
+``plot(ds, pdf, png)`` dispatches on ``ds.attrs['kind']``.  Axis labels come
+from :mod:`confined_rod.quantities`, so symbols and units are defined once.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker as ticker  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from .quantities import label  # noqa: E402
+
+STYLE = {
+    "font.family": "serif",
+    "mathtext.fontset": "dejavuserif",
+    "font.size": 10,
+    "axes.labelsize": 10,
+    "legend.fontsize": 8,
+    "legend.frameon": False,
+    "xtick.direction": "in",
+    "ytick.direction": "in",
+    "xtick.top": True,
+    "ytick.right": True,
+    "savefig.dpi": 200,
+    "savefig.bbox": "tight",
+}
+SIM = dict(color="black")
+FIT = dict(color="tab:red", lw=1.2)
+MODEL = dict(color="tab:blue", ls="--", lw=1.2)
+PAPER = dict(color="0.45", ls=":", lw=1.2)
+
+
+def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:
+    kind = ds.attrs["kind"]
+    fn = {"transmitted_force": transmitted_force, "force_profile": force_profile}.get(kind)
+    if fn is None:
+        raise ValueError(f"no plot for figure kind {kind!r}")
+    for name, var in ds.data_vars.items():
+        if np.issubdtype(var.dtype, np.floating) and not np.all(np.isfinite(var.values)):
+            raise ValueError(f"dataset variable {name!r} has non-finite values; refusing to plot")
+    with plt.rc_context(STYLE):
+        fig = fn(ds)
+        _save(fig, pdf)
+        _save(fig, png)
+        plt.close(fig)
+
+
+def _save(fig, path) -> None:
+    """Atomic: write a temporary file, then rename, so a failed job leaves nothing behind."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        fig.savefig(tmp, metadata={"Title": fig.get_label()} if path.suffix == ".pdf" else None)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def _plain_log_ticks(axis) -> None:
+    """Log axis with ticks at 1, 2, 5 x 10^n written as plain numbers (0.05, 20, ...)."""
+    axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_locator(ticker.LogLocator(base=10, subs=np.arange(1, 10) * 1.0))
+    axis.set_minor_formatter(ticker.NullFormatter())
+
+
+def _params_text(ds: xr.Dataset, keys) -> str:
+    sym = {"load": r"|F_z(0)|", "k_fr": r"k_{fr}", "L": "L", "l0": "l_0"}
+    unit = {"load": r"\,EI/R^2", "L": r"\,R", "l0": r"\,R", "k_fr": ""}
+    return ", ".join(f"${sym[k]} = {float(ds.attrs[k]):g}{unit[k]}$" for k in keys if k in ds.attrs)
+
+
+def transmitted_force(ds: xr.Dataset):
+    fig, ax = plt.subplots(figsize=(4.6, 3.4), label=ds.attrs["title"])
+    L = ds["L"].values
+    F = ds["F_transmitted"].values
+    ok = ds["converged"].values == 1
+    ax.plot(ds["L_model"], ds["F_simple"], **MODEL, label=r"simple model, $K = RF^2/(4EI)$")
+    ax.plot(ds["L_model"], ds["F_simple_paper"], **PAPER, label=r"paper's Eq. (Fz-simple), $K = RF^2/(2EI)$")
+    ax.plot(L, F, "-", color="0.6", lw=0.7, label="eye guide")
+    ax.plot(L[ok], F[ok], "o", ms=5, **SIM, label="simulation")
+    if (~ok).any():
+        ax.plot(L[~ok], F[~ok], "o", ms=5, mfc="white", mec="black", label="simulation, not converged")
+    ax.axhline(float(ds.attrs["load"]), color="0.7", lw=0.8)
+    ax.annotate("load $|F_z(0)|$", (ds["L_model"].values[0], float(ds.attrs["load"])), xytext=(2, -10),
+                textcoords="offset points", fontsize=8, color="0.4")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    _plain_log_ticks(ax.xaxis)
+    _plain_log_ticks(ax.yaxis)
+    ax.set_xlabel(label("L"))
+    ax.set_ylabel(label("F_transmitted"))
+    ax.set_title(_params_text(ds, ("load", "k_fr", "l0")), fontsize=9)
+    ax.legend(loc="lower left")
+    return fig
+
+
+def force_profile(ds: xr.Dataset):
+    n = ds.sizes["panel"]
+    fig, axes = plt.subplots(1, n, figsize=(2.6 * n + 0.6, 3.3), sharey=True, squeeze=False,
+                             label=ds.attrs["title"])
+    s = ds["s"].values
+    p = ds.attrs.get("panel_parameter", "none")
+    for i, ax in enumerate(axes[0]):
+        d = ds.isel(panel=i)
+        w = d["in_fit"].values == 1
+        ax.axvspan(float(d.s_h), float(d.s_end), color="0.95", zorder=0, lw=0, label="wall contact")
+        ax.plot(s, d["F_abs"], lw=2.2, **SIM, label="simulation")
+        ax.plot(s[w], d["F_fit"].values[w], **FIT, label=r"fit $A\,(l_0'+s)^c$")
+        ax.plot(s, d["F_simple"], **MODEL, label=r"simple model, $K = RF^2/(4EI)$")
+        ax.plot(s, d["F_simple_paper"], **PAPER, label=r"paper's form, $K = RF^2/(2EI)$")
+        ax.text(0.04, 0.04,
+                f"$A = {float(d.fit_A):.3g} \\pm {float(d.fit_A_err):.2g}$\n"
+                f"$l_0' = {float(d.fit_l0):.3g} \\pm {float(d.fit_l0_err):.2g}\\,R$\n"
+                f"$c = {float(d.fit_c):.3f} \\pm {float(d.fit_c_err):.3f}$",
+                transform=ax.transAxes, ha="left", va="bottom", fontsize=7.5, color=FIT["color"])
+        ax.set_yscale("log")
+        _plain_log_ticks(ax.yaxis)
+        ax.set_xlabel(label("s"))
+        title = f"({chr(97 + i)})"
+        if p != "none":
+            title += f" ${_SYM.get(p, p)} = {float(d.panel_value):g}$"
+        ax.set_title(title, fontsize=9, loc="left")
+        ax.set_xlim(0, s[-1])
+    axes[0][0].set_ylabel(label("F_abs"))
+    fig.suptitle(_params_text(ds, ("L", "load", "k_fr", "l0")), fontsize=9)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, -0.01))
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    return fig
+
+
+_SYM = {"k_fr": r"k_{fr}", "load": r"|F_z(0)|", "seed": r"\mathrm{seed}", "friction_cap": r"f_{cap}"}

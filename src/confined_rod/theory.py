@@ -1,0 +1,61 @@
+"""Analytic relations of the paper's "simple model" (a helix on the wall), corrected.
+
+Derivations and the paper's errors: docs/model.md.  With free ends the axial
+torque vanishes, which gives for a helix of pitch rate omega = dphi/ds on the
+wall of a cylinder of radius R
+
+    2 EI omega^2 sqrt(1 - R^2 omega^2) = |F_z|,      K = EI R omega^4,
+
+so to lowest order K = R F_z^2 / (4 EI) (the paper's Eq. K-simple has 2 EI).
+Coulomb friction k_fr K per unit length then gives d|F_z|/dl = -k_fr K, i.e.
+
+    |F_z(s)| = (1/|F_z0| + k_fr R s / (4 EI))^-1                  (corrected)
+    |F_z(s)| = (1/|F_z0| + k_fr R s / (2 EI))^-1                  (paper, Eq. Fz-simple)
+
+with s measured from the start of the helix, where |F_z| = |F_z0|.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: denominator of K = R F^2 / (DENOM EI): 4 from the torque balance, 2 in the paper
+K_DENOMINATOR = 4.0
+K_DENOMINATOR_PAPER = 2.0
+
+
+def helix_frictionless(load: float, R: float = 1.0, EI: float = 1.0) -> tuple[float, float]:
+    """Bulk pitch rate omega = dphi/ds and wall force per length K of a
+    frictionless helix on the wall with no torque at the free ends:
+        2 EI omega^2 sqrt(1 - R^2 omega^2) = |F_z|,   K = EI R omega^4.
+    To lowest order omega^2 = |F_z|/(2EI) and K = R F_z^2/(4 EI)."""
+    # solve 2 EI w^2 sqrt(1 - R^2 w^2) = F for the small root by bisection on u = (R w)^2
+    f = load * R * R / (2.0 * EI)
+    if f > 2.0 / (3.0 * np.sqrt(3.0)):
+        raise ValueError(f"no helix on the wall for load {load} (max 4 EI/(3 sqrt(3) R^2))")
+    lo, hi = 0.0, 2.0 / 3.0  # u sqrt(1-u) increases on [0, 2/3]
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid * np.sqrt(1.0 - mid) < f:
+            lo = mid
+        else:
+            hi = mid
+    omega = np.sqrt(0.5 * (lo + hi)) / R
+    return float(omega), float(EI * R * omega**4)
+
+
+def force_decay(s, F0: float, k_fr: float, R: float = 1.0, EI: float = 1.0, *, paper: bool = False):
+    """|F_z(s)| of the simple model: a frictional helix from s = 0 on, where |F_z| = F0.
+
+    ``paper=True`` gives the paper's Eq. (Fz-simple) with K = R F^2/(2 EI), 2x too
+    much friction. Units: s in R, F0 in EI/R^2, result in EI/R^2."""
+    if F0 <= 0:
+        raise ValueError(f"F0 must be positive, got {F0!r}")
+    denom = K_DENOMINATOR_PAPER if paper else K_DENOMINATOR
+    return 1.0 / (1.0 / F0 + k_fr * R * np.asarray(s, dtype=float) / (denom * EI))
+
+
+def critical_length(F0: float, k_fr: float, R: float = 1.0, EI: float = 1.0, *, paper: bool = False) -> float:
+    """l_c = -4 EI / (k_fr R F0): the (negative) singular point of force_decay, so
+    force_decay(s) = 4 EI/(k_fr R) / (s - l_c). The paper's Eq. (l_c) has 2 EI."""
+    denom = K_DENOMINATOR_PAPER if paper else K_DENOMINATOR
+    return -denom * EI / (k_fr * R * F0)
