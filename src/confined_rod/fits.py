@@ -61,7 +61,7 @@ def fit_power_law(s: np.ndarray, F: np.ndarray, *, guess: tuple[float, float, fl
                                bounds=([0.0, 0.0, -10.0], [np.inf, np.inf, 10.0]), max_nfev=20000)
     except (RuntimeError, ValueError) as e:
         raise FitError(f"power-law fit did not converge: {e}") from e
-    if not np.all(np.isfinite(pcov)):
+    if not (np.all(np.isfinite(pcov)) and np.all(np.diag(pcov) > 0)):
         # a parameter not determined by the data (e.g. a profile that does not decay)
         raise FitError(f"power-law fit is degenerate (parameters {popt}); the profile does not determine A, l0', c")
     rel = (power_law(s, *popt) - F) / F

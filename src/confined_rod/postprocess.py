@@ -46,12 +46,15 @@ def n_turns(sim: xr.Dataset) -> float:
 
 
 def contact_range(sim: xr.Dataset) -> tuple[float, float]:
-    """Arc lengths (link centres) of the first and last links on the wall; (L, L) if none."""
+    """Arc lengths of the joints that bound the wall-contact stretch: the upper end of the
+    first link on the wall and the lower end of the last one (wall forces act on link
+    ends). (L, L) if no link touches the wall."""
     s = sim["s_link"].values[sim["contact"].values == 1]
     if s.size == 0:
         L = float(sim.attrs["L"])
         return L, L
-    return float(s.min()), float(s.max())
+    half = 0.5 * float(sim.attrs["l0"])
+    return float(s.min() - half), float(s.max() + half)
 
 
 # -- Fig 6: transmitted force against L ---------------------------------------------
@@ -99,9 +102,9 @@ def force_profile(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset]) ->
         R, EI, k_fr = (float(d.attrs[k]) for k in ("R", "EI", "k_fr"))
         F = np.abs(d["F_z"].values)
         s_h, s_e = contact_range(d)
-        window = (s >= s_h + trim) & (s <= s_e - trim)
-        i_h = int(np.argmin(np.abs(s - s_h)))
-        F_h = float(F[i_h])
+        tiny = 1e-9 * float(d.attrs["L"])  # s_h, s_e are joints: include them despite rounding
+        window = (s >= s_h + trim - tiny) & (s <= s_e - trim + tiny)
+        F_h = float(np.interp(s_h, s, F))
         guess_A = 4 * EI / (k_fr * R) if k_fr > 0 else F_h
         guess_l0 = max(4 * EI / (k_fr * R * F_h) - s_h, 1.0) if k_fr > 0 else 1.0
         try:

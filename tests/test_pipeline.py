@@ -1,0 +1,150 @@
+"""Pipeline configuration (figure -> scenes -> parameters), its schema, the per-figure
+datasets and the figures. The Snakemake run itself is exercised by .ci/run."""
+import copy
+import dataclasses
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import jsonschema
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from confined_rod import Scene, pipeline, plotting, postprocess, theory
+from confined_rod.io import write_dataset
+
+ROOT = Path(__file__).resolve().parents[1]
+SCHEMA = yaml.safe_load((ROOT / "workflow/schemas/config.schema.yaml").read_text())
+CONFIGS = [ROOT / "config/config.yaml", ROOT / "config/ci.yaml"]
+
+
+def load(path):
+    return yaml.safe_load(Path(path).read_text())
+
+
+@pytest.mark.parametrize("path", CONFIGS, ids=lambda p: p.name)
+def test_shipped_configs_are_valid(path):
+    config = load(path)
+    jsonschema.validate(config, SCHEMA)
+    pipeline.validate(config)
+    out = pipeline.expected_outputs(config)
+    assert len(out["datasets"]) == len(config["figures"])
+    assert len(out["figures"]) == 2 * len(config["figures"])
+
+
+def test_schema_knows_exactly_the_scene_fields():
+    fields = {f.name for f in dataclasses.fields(Scene)} - {"name"}
+    assert set(SCHEMA["$defs"]["scene"]["properties"]) == fields
+
+
+def test_schema_rejects_unknown_keys_and_bad_types():
+    config = load(CONFIGS[1])
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig6_FonL"]["scenes"]["L10"]["lenght"] = 10
+    with pytest.raises(jsonschema.ValidationError, match="lenght"):
+        jsonschema.validate(bad, SCHEMA)
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig6_FonL"]["defaults"]["k_fr"] = "lots"
+    with pytest.raises(jsonschema.ValidationError, match="lots"):
+        jsonschema.validate(bad, SCHEMA)
+
+
+def test_validate_names_the_entry_and_the_value():
+    config = load(CONFIGS[1])
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig6_FonL"]["scenes"]["L20"]["L"] = 0.5  # shorter than l0 = 1
+    with pytest.raises(pipeline.ConfigError, match=r"figures\.fig6_FonL\.scenes\.L20: .*'l0'.*L = 0\.5"):
+        pipeline.validate(bad)
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig4_Fonl"]["scenes"]["b"]["seed"] = 7  # panels may differ only in k_fr
+    with pytest.raises(pipeline.ConfigError, match=r"fig4_Fonl\.scenes\.b: seed = 7"):
+        pipeline.validate(bad)
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig4_Fonl"]["panel_parameter"] = "friction"
+    with pytest.raises(pipeline.ConfigError, match="'friction' is not a Scene field"):
+        pipeline.validate(bad)
+
+
+def test_shared_scenes_are_simulated_once():
+    config = load(CONFIGS[0])
+    # Fig 4(c) (L 320, load 0.25, k_fr 0.8) is the L = 320 point of Fig 6
+    assert pipeline.canonical_scene(config, "fig4_Fonl", "c") == ("fig6_FonL", "L320")
+    assert pipeline.canonical_scene(config, "fig4_Fonl", "a") == ("fig4_Fonl", "a")
+    sims = pipeline.expected_outputs(config)["sims"]
+    assert len(sims) == len(set(sims)) == 8
+
+
+def test_snakemake_stops_on_a_bad_config_before_any_job(tmp_path):
+    snakemake = Path(sys.executable).with_name("snakemake")
+    if not snakemake.exists():
+        pytest.skip("snakemake not installed (pip install -e .[workflow])")
+    config = load(CONFIGS[1])
+    config["figures"]["fig6_FonL"]["scenes"]["L20"]["k_fr"] = -1.0
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump(config))
+    out = subprocess.run([str(snakemake), "-n", "--configfile", str(bad), "--cores", "1"], cwd=ROOT,
+                         capture_output=True, text=True, timeout=120,
+                         env={**os.environ})
+    assert out.returncode != 0
+    msg = out.stdout + out.stderr
+    assert "k_fr" in msg and "-1.0" in msg and "Job stats" not in msg
+
+
+# -- per-figure datasets built from model data -------------------------------------------
+def fake_sim(L, k_fr, load=0.25, N=100, s_h=2.0, F_end=None):
+    """A scene dataset whose force profile is the simple model from s_h on (constant before)."""
+    s = np.linspace(0.0, L, N + 1)
+    s_link = 0.5 * (s[1:] + s[:-1])
+    F = theory.force_decay(np.maximum(s - s_h, 0.0), load, k_fr)
+    contact = (s_link >= s_h).astype(np.int8)
+    phi = np.linspace(0, 3 * np.pi, int(contact.sum()))
+    attrs = dict(Scene(L=L, k_fr=k_fr, load=load, l0=L / N).to_dict())
+    attrs = {k: v for k, v in attrs.items() if not isinstance(v, (tuple, type(None)))}
+    return xr.Dataset(
+        {"F_z": ("joint", -F), "contact": ("link", contact), "phi": ("helix", phi),
+         "F_transmitted": ((), F[-1] if F_end is None else F_end), "L_z": ((), 0.9 * L),
+         "converged": ((), np.int8(1)), "escaped": ((), np.int8(0)), "residual_force": ((), 1e-6),
+         "wall_time": ((), 1.0)},
+        coords={"s": ("joint", s), "s_link": ("link", s_link)}, attrs={**attrs, "git_commit": "test"})
+
+
+def test_force_profile_fit_recovers_the_simple_model():
+    """On model data |F| = 4EI/(k_fr R) / (s - s_h - l_c) the fit must give c = -1,
+    A = 4EI/(k_fr R) and l0' = -l_c - s_h, and the stored model curve equals the data."""
+    cfg = {"kind": "force_profile", "panel_parameter": "k_fr", "paper_figure": 4, "title": "t"}
+    sims = {"a": fake_sim(200.0, 0.1), "b": fake_sim(200.0, 0.8)}
+    ds = postprocess.build("fig4", cfg, sims)
+    for i, k_fr in enumerate((0.1, 0.8)):
+        d = ds.isel(panel=i)
+        assert float(d.fit_c) == pytest.approx(-1.0, abs=1e-6)
+        assert float(d.fit_A) == pytest.approx(4.0 / k_fr, rel=1e-5)
+        assert float(d.fit_l0) == pytest.approx(-theory.critical_length(0.25, k_fr) - 2.0, rel=1e-5)
+        np.testing.assert_allclose(d.F_simple, d.F_abs, rtol=1e-12)
+        assert float(d.panel_value) == k_fr
+    np.testing.assert_allclose(ds.F_simple_paper.values[:, 0], 0.25)
+    assert float(ds.F_simple_paper.isel(panel=1)[-1]) < float(ds.F_simple.isel(panel=1)[-1])
+    for name, var in ds.variables.items():
+        assert "long_name" in var.attrs, name
+        if var.dtype.kind == "f":
+            assert np.all(np.isfinite(var.values)), name
+
+
+def test_transmitted_force_dataset_and_figures(tmp_path):
+    cfg = {"kind": "transmitted_force", "paper_figure": 6, "title": "t"}
+    sims = {f"L{L}": fake_sim(float(L), 0.8) for L in (40, 20, 80)}
+    ds = postprocess.build("fig6", cfg, sims)
+    assert list(ds.L.values) == [20.0, 40.0, 80.0]  # sorted by L
+    np.testing.assert_allclose(ds.F_simple, 1.0 / (4.0 + 0.2 * ds.L_model), rtol=1e-12)
+    np.testing.assert_allclose(ds.F_simple_paper, 1.0 / (4.0 + 0.4 * ds.L_model), rtol=1e-12)
+    path = write_dataset(ds, tmp_path / "fig6.nc")
+    back = xr.load_dataset(path)
+    plotting.plot(back, tmp_path / "fig6.pdf", tmp_path / "fig6.png")
+    assert (tmp_path / "fig6.pdf").read_bytes().startswith(b"%PDF")
+    assert (tmp_path / "fig6.png").stat().st_size > 10_000
+    back["F_transmitted"][0] = np.nan
+    with pytest.raises(ValueError, match="F_transmitted"):
+        plotting.plot(back, tmp_path / "x.pdf", tmp_path / "x.png")
+    assert not (tmp_path / "x.pdf").exists()

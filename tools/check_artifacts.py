@@ -1,0 +1,104 @@
+"""Check every artifact a pipeline config promises: it exists, opens, and holds no NaN.
+
+    python tools/check_artifacts.py config/ci.yaml [--report results/report.html]
+
+netCDF files must open with xarray, carry CF attributes, and have no NaN or inf in
+any floating-point variable; figures must be non-empty images (PNG decodes to a
+non-blank picture, PDF has a PDF header and pages).  Exit status 1 lists every failure.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+
+from confined_rod import pipeline  # noqa: E402
+
+
+def check_netcdf(path: Path) -> list[str]:
+    errors = []
+    with xr.open_dataset(path) as ds:
+        for key in ("Conventions", "title", "history", "git_commit", "confined_rod_version"):
+            if key not in ds.attrs:
+                errors.append(f"{path}: global attribute {key!r} missing")
+        for name, var in ds.variables.items():
+            if "units" not in var.attrs and var.dtype.kind not in "OSU":
+                errors.append(f"{path}: variable {name!r} has no units")
+            if "long_name" not in var.attrs:
+                errors.append(f"{path}: variable {name!r} has no long_name")
+            if var.dtype.kind == "f":
+                bad = int(np.size(var.values) - np.count_nonzero(np.isfinite(var.values)))
+                if bad:
+                    errors.append(f"{path}: variable {name!r} has {bad} NaN/inf values")
+            if var.size == 0 and name in ds.data_vars and var.dims and var.dims[0] not in ("helix", "time"):
+                errors.append(f"{path}: variable {name!r} is empty")
+        if "converged" in ds and int(np.min(ds["converged"].values)) == 0:
+            print(f"note: {path}: not every run converged", file=sys.stderr)
+    return errors
+
+
+def check_png(path: Path) -> list[str]:
+    import matplotlib.image as mpimg
+
+    img = mpimg.imread(path)
+    if img.ndim != 3 or img.shape[0] < 200 or img.shape[1] < 200:
+        return [f"{path}: image too small or not RGB(A): shape {img.shape}"]
+    if float(np.std(img[..., :3])) < 1e-3:
+        return [f"{path}: image is blank"]
+    return []
+
+
+def check_pdf(path: Path) -> list[str]:
+    data = path.read_bytes()
+    if not data.startswith(b"%PDF-") or b"/Page" not in data or len(data) < 2000:
+        return [f"{path}: not a non-empty PDF ({len(data)} bytes)"]
+    return []
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("config")
+    ap.add_argument("--report", help="also check this HTML report (exists, mentions every figure)")
+    args = ap.parse_args(argv)
+    config = yaml.safe_load(Path(args.config).read_text())
+    expected = pipeline.expected_outputs(config)
+    errors: list[str] = []
+    n = 0
+    for kind, paths in expected.items():
+        for p in map(Path, paths):
+            n += 1
+            if not p.is_file() or p.stat().st_size == 0:
+                errors.append(f"{p}: missing or empty")
+                continue
+            try:
+                check = {".nc": check_netcdf, ".png": check_png, ".pdf": check_pdf}[p.suffix]
+                errors += check(p)
+            except Exception as e:  # noqa: BLE001 - any failure to open is a failed check
+                errors.append(f"{p}: cannot be read: {type(e).__name__}: {e}")
+    if args.report:
+        rp = Path(args.report)
+        if not rp.is_file():
+            errors.append(f"{rp}: report missing")
+        else:
+            html = rp.read_text(errors="replace")
+            for f in pipeline.figures(config):
+                if f"{f}.png" not in html:
+                    errors.append(f"{rp}: figure {f} not in the report")
+            if html.count("Parameters:") < len(pipeline.figures(config)):
+                errors.append(f"{rp}: a figure caption is missing")
+    for e in errors:
+        print("FAIL", e, file=sys.stderr)
+    print(f"checked {n} artifacts of {args.config}" + (f" and {args.report}" if args.report else "")
+          + f": {len(errors)} failure(s)")
+    return 1 if errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
