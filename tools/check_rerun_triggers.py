@@ -59,7 +59,7 @@ def main(argv=None) -> int:
         ran = set(plan)
         ok = must <= ran and not (must_not & ran)
         failures += not ok
-        print(f"{'ok  ' if ok else 'FAIL'} touch {probe.relative_to(ROOT)} -> would run {plan or 'nothing'}"
+        print(f"{'ok  ' if ok else 'FAIL'} edit {probe.relative_to(ROOT)} -> would run {plan or 'nothing'}"
               f" (expected {sorted(must)}, never {sorted(must_not)})")
     return 1 if failures else 0
 
