@@ -148,3 +148,23 @@ def test_transmitted_force_dataset_and_figures(tmp_path):
     with pytest.raises(ValueError, match="F_transmitted"):
         plotting.plot(back, tmp_path / "x.pdf", tmp_path / "x.png")
     assert not (tmp_path / "x.pdf").exists()
+
+
+def test_captions_state_what_and_with_which_parameters():
+    config = load(CONFIGS[0])
+    c6 = pipeline.caption(config, "fig6_FonL")
+    assert "paper Fig. 6" in c6 and "L/R = 20, 40, 80, 160, 320, 640" in c6
+    assert "k_fr = 0.8" in c6 and "load |F_z(0)| = 0.25" in c6 and "l0 = 0.5" in c6 and "4EI" in c6
+    c4 = pipeline.caption(config, "fig4_Fonl")
+    assert "paper Fig. 4" in c4 and "L/R = 320" in c4
+    assert "(a) k_fr = 0.1; (b) k_fr = 0.3; (c) k_fr = 0.8" in c4
+
+
+def test_logged_keeps_the_traceback(tmp_path):
+    log = tmp_path / "sub" / "job.log"
+    with pytest.raises(ZeroDivisionError):
+        with pipeline.logged(log):
+            print("started")
+            1 / 0
+    text = log.read_text()
+    assert "started" in text and "ZeroDivisionError" in text
