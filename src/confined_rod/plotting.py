@@ -77,10 +77,14 @@ def _plain_log_ticks(axis) -> None:
     axis.set_minor_formatter(ticker.NullFormatter())
 
 
+# symbols and units of the scene parameters named in titles
+_SYM = {"load": r"|F_z(0)|", "k_fr": r"k_{fr}", "L": "L", "l0": "l_0", "seed": r"\mathrm{seed}",
+        "friction_cap": r"f_{cap}"}
+_UNIT = {"load": r"\,EI/R^2", "L": r"\,R", "l0": r"\,R", "friction_cap": r"\,EI/R^3"}
+
+
 def _params_text(ds: xr.Dataset, keys) -> str:
-    sym = {"load": r"|F_z(0)|", "k_fr": r"k_{fr}", "L": "L", "l0": "l_0"}
-    unit = {"load": r"\,EI/R^2", "L": r"\,R", "l0": r"\,R", "k_fr": ""}
-    return ", ".join(f"${sym[k]} = {float(ds.attrs[k]):g}{unit[k]}$" for k in keys if k in ds.attrs)
+    return ", ".join(f"${_SYM[k]} = {float(ds.attrs[k]):g}{_UNIT.get(k, '')}$" for k in keys if k in ds.attrs)
 
 
 def transmitted_force(ds: xr.Dataset):
@@ -142,5 +146,3 @@ def force_profile(ds: xr.Dataset):
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     return fig
 
-
-_SYM = {"k_fr": r"k_{fr}", "load": r"|F_z(0)|", "seed": r"\mathrm{seed}", "friction_cap": r"f_{cap}"}

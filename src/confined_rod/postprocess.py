@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from . import theory
-from .fits import PARAMS, fit_power_law
+from .fits import PARAMS, FitError, fit_power_law
 from .io import finalize, variable
 from .quantities import attrs, error_attrs
 
@@ -109,8 +109,8 @@ def force_profile(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset]) ->
         guess_l0 = max(4 * EI / (k_fr * R * F_h) - s_h, 1.0) if k_fr > 0 else 1.0
         try:
             f = fit_power_law(s[window], F[window], guess=(guess_A, guess_l0, -1.0))
-        except Exception as e:  # noqa: BLE001 - re-raised with the scene named
-            raise type(e)(f"scene {name!r}: {e}") from e
+        except FitError as e:
+            raise FitError(f"scene {name!r}: {e}") from e
         F_abs.append(F)
         F_fit.append(f(s))
         in_fit.append(window.astype(np.int8))
