@@ -80,10 +80,11 @@ def finalize(ds: xr.Dataset, title: str, params: dict[str, Any]) -> xr.Dataset:
     return ds
 
 
-def check_finite(ds: xr.Dataset) -> None:
+def check_finite(ds: xr.Dataset, action: str = "write the dataset") -> None:
+    """Raise ValueError naming the first floating-point variable with NaN or inf."""
     for name, var in ds.variables.items():
         if np.issubdtype(var.dtype, np.floating) and not np.all(np.isfinite(var.values)):
-            raise ValueError(f"variable {name!r} contains non-finite values; refusing to write the dataset")
+            raise ValueError(f"variable {name!r} contains non-finite values; refusing to {action}")
 
 
 def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:

@@ -16,6 +16,7 @@ import matplotlib.ticker as ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from .io import check_finite  # noqa: E402
 from .quantities import label  # noqa: E402
 
 STYLE = {
@@ -43,9 +44,7 @@ def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:
     fn = {"transmitted_force": transmitted_force, "force_profile": force_profile}.get(kind)
     if fn is None:
         raise ValueError(f"no plot for figure kind {kind!r}")
-    for name, var in ds.data_vars.items():
-        if np.issubdtype(var.dtype, np.floating) and not np.all(np.isfinite(var.values)):
-            raise ValueError(f"dataset variable {name!r} has non-finite values; refusing to plot")
+    check_finite(ds, "plot")
     with plt.rc_context(STYLE):
         fig = fn(ds)
         _save(fig, pdf)
