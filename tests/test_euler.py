@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from confined_rod import Scene
-from confined_rod.solvers.explicit import RunState, relax
+from confined_rod.solvers.base import RunState
+from confined_rod.solvers.explicit import relax
 
 L = 5.0
 F_C = np.pi**2 / L**2

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from confined_rod import Scene
-from confined_rod.solvers.explicit import RunState, relax
+from confined_rod.solvers.base import RunState
+from confined_rod.solvers.explicit import relax
 
 P, KFR, L = 0.1, 0.5, 4.0  # capacity k_fr p L = 0.2
 

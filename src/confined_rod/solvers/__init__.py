@@ -1,4 +1,4 @@
-"""Time integrators of the overdamped dynamics and the stopping rules."""
-from . import explicit
+"""Time integrators of the overdamped dynamics and the stopping rules they share."""
+from . import explicit, implicit
 
-SOLVERS = {"explicit": explicit.run}
+SOLVERS = {"explicit": explicit.run, "implicit": implicit.run}

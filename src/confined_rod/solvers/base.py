@@ -1,0 +1,152 @@
+"""What every integrator shares: the run state, the stopping rules and the
+protocol driver.
+
+Stopping rules (the same for every solver, so "converged" means the same thing):
+
+* equilibrium: eps_F = max_i |F_i| L / (l0 load) < tol and
+  eps_M = max_i |M_i x t_i| L / (l0 load R) < tol, friction included (a stuck
+  link has zero tangential residual).  eps = 1 means a force density equal to the
+  load spread evenly over the rod; tol bounds the error of the force profile
+  F_z(s) by tol * load;
+* time cap: reaching t_max ends the run with ``converged = False``;
+* escape: a link end above the open pore entrance and more than 0.1 R outside
+  the pore's radius stops the run (``escaped = True``);
+* divergence: non-finite values, a bond gap above l0/2 or a link end more than
+  100 R from the axis raise :class:`DivergenceError` naming scene, step and time.
+
+A solver supplies a *stepper*: an object whose ``advance(st, t_stop)`` moves the
+state forward by some work (a chunk of explicit steps, one implicit step) without
+passing t_stop and returns a kernel stop code; the checks run between calls.
+"""
+from __future__ import annotations
+
+import sys
+import time as _time
+from dataclasses import dataclass, field
+from typing import Callable, Protocol
+
+import numpy as np
+
+from ..errors import DivergenceError
+from ..model import kernels as K
+from ..model.forces import Workspace, evaluate
+from ..scenes import Scene
+
+PROGRESS_AFTER_S = 3.0  # report progress on stderr once a run has taken this long ...
+PROGRESS_EVERY_S = 2.0  # ... and then this often
+
+
+@dataclass
+class RunState:
+    """Everything a run carries from stage to stage."""
+
+    r: np.ndarray
+    t: np.ndarray
+    time: float = 0.0
+    steps: int = 0
+    converged: bool = False
+    escaped: bool = False
+    eps_F: float = np.inf
+    eps_M: float = np.inf
+    snapshot_times: list = field(default_factory=list)
+    snapshot_r: list = field(default_factory=list)
+    stage_converged: list = field(default_factory=list)
+    work: dict = field(default_factory=dict)  # solver counters (Newton iterations, rejected steps, ...)
+
+    def take_snapshot(self) -> None:
+        self.snapshot_times.append(self.time)
+        self.snapshot_r.append(self.r.copy())
+
+    def count(self, key: str, n: int = 1) -> None:
+        self.work[key] = self.work.get(key, 0) + n
+
+
+class Stepper(Protocol):
+    step_hint: str  # which setting to change when a run diverges
+
+    def advance(self, st: RunState, t_stop: float) -> int: ...
+
+
+def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[float, float]:
+    fmax, mmax = K.residuals(t, ws.F, ws.M)
+    scale = scene.l0 * scene.load / scene.L
+    return fmax / scale, mmax / (scale * scene.R)
+
+
+def check_state(scene: Scene, r: np.ndarray, t: np.ndarray, step: int, time: float,
+                hint: str = "") -> None:
+    """Raise DivergenceError on a diverged state."""
+    where = f"scene {scene.name!r}: run diverged at step {step} (t = {time:.6g})"
+    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(t))):
+        raise DivergenceError(f"{where}: non-finite positions or tangents; {hint or 'reduce the step'}, "
+                              f"or check k_ph = {scene.k_ph}, k_w = {scene.k_w}")
+    h = 0.5 * scene.l0
+    rm, rp = r - h * t, r + h * t
+    gap = np.linalg.norm(rm[1:] - rp[:-1], axis=1)
+    if gap.size and gap.max() > h:
+        raise DivergenceError(f"{where}: a bond gap of {gap.max():.3g} exceeds l0/2 = {h:.3g}; "
+                              f"the joints have come apart (k_ph = {scene.k_ph} too small for the load"
+                              f"{', or ' + hint if hint else ''})")
+    ends = np.concatenate([rm, rp])
+    rho = np.hypot(ends[:, 0], ends[:, 1])
+    if rho.max() > 100.0 * scene.R:
+        raise DivergenceError(f"{where}: a link end is {rho.max():.3g} from the axis (runaway)")
+
+
+def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None = None,
+          progress: bool = True, label: str = "") -> RunState:
+    """Advance until equilibrium, escape, or the time cap (t_end or scene.t_max).
+    Snapshots (only if scene.snapshot_interval > 0) are taken at their exact times."""
+    par = scene.params()
+    ws = Workspace.for_links(scene.N)
+    t_cap = scene.t_max if t_end is None else t_end
+    snap_dt = scene.snapshot_interval
+    next_snap = (st.snapshot_times[-1] + snap_dt) if (snap_dt > 0 and st.snapshot_times) else st.time
+    t0 = _time.perf_counter()
+    last_report = t0
+    st.converged = False
+    while True:
+        if snap_dt > 0 and st.time >= next_snap - 1e-12:
+            st.take_snapshot()
+            next_snap += snap_dt * max(1, np.floor((st.time - next_snap) / snap_dt) + 1)
+        t_stop = min(t_cap, next_snap) if snap_dt > 0 else t_cap
+        code = stepper.advance(st, t_stop)
+        check_state(scene, st.r, st.t, st.steps, st.time, stepper.step_hint)
+        st.escaped = code == K.STOP_ESCAPED
+        evaluate(par, st.r, st.t, ws)
+        st.eps_F, st.eps_M = normalised_residuals(scene, st.t, ws)
+        now = _time.perf_counter()
+        if progress and now - t0 > PROGRESS_AFTER_S and now - last_report > PROGRESS_EVERY_S:
+            last_report = now
+            print(f"[{scene.name}{label}] t = {st.time:.4g} / {t_cap:.4g}, steps = {st.steps}, "
+                  f"eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} (tol {scene.tol:.1e}), "
+                  f"{now - t0:.0f} s", file=sys.stderr, flush=True)
+        if st.escaped:
+            break
+        if st.eps_F < scene.tol and st.eps_M < scene.tol:
+            st.converged = True
+            break
+        if st.time >= t_cap * (1 - 1e-12):
+            break
+    if snap_dt > 0 and (not st.snapshot_times or st.snapshot_times[-1] < st.time):
+        st.take_snapshot()
+    st.stage_converged.append(st.converged)
+    return st
+
+
+def run_protocol(scene: Scene, make_stepper: Callable[[Scene], Stepper], *,
+                 progress: bool = True) -> RunState:
+    """Run the scene's protocol from its initial state with the given solver."""
+    r, t = scene.initial_state()
+    st = RunState(r=r, t=t)
+    stepper = make_stepper(scene)
+    if scene.protocol == "planar_then_3d":
+        relax(scene, st, stepper, progress=progress, label=" planar stage")
+        if st.escaped:
+            return st
+        scene.perturb_3d(st.r)
+        stepper = make_stepper(scene)
+        relax(scene, st, stepper, progress=progress, label=" 3-D stage")
+    else:
+        relax(scene, st, stepper, progress=progress)
+    return st

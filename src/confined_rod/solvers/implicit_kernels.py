@@ -1,0 +1,260 @@
+"""numba kernels of the backward-Euler (implicit) step, one job each.
+
+One implicit step of length dt from the state (r_n, t_n) minimises
+
+    Phi(r, t) = E(r, t) + (beta/2dt) sum |r_i - r_n,i|^2 + (gamma_r/2dt) sum |t_i - t_n,i|^2
+                + sum_i f_max,i |P_i (r_i - r_n,i)|,
+
+E the conservative energy of model.kernels, P_i the projection onto the wall's
+tangent plane at r_n,i (azimuthal and axial directions) and f_max,i the Coulomb
+limit min(k_fr N_i, cap) with the wall force N_i of the step's start state.  The
+stationarity condition of Phi is backward Euler for gamma dx/dt = F + friction,
+and its last term is Coulomb's law: a link whose tangential force stays below
+f_max does not move along the wall (the minimum of |v| sits at v = 0 exactly),
+a sliding link feels f_max against its motion (docs/model.md, "implicit solver").
+
+Coordinates of the Newton iteration, 5 per link (array shapes (N, 5)):
+  0-2  displacement of the link centre along the local frame at r_n,i:
+       radial n_i, azimuthal e_phi,i, axial e_z (frame[i, k, :], (N, 3, 3))
+  3-4  rotation of the tangent in its tangent plane: t = (t + a e1 + b e2)/|...|
+       with e1, e2 an orthonormal basis perpendicular to the current t.
+Only the smooth part Phi_s = E + drag is differentiated numerically (by
+coloured finite differences of the kernel forces); the friction term is added
+analytically by the solver.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..model import kernels as K
+
+NDOF = 5  # coordinates per link
+BAND = 2 * NDOF - 1  # half-bandwidth of the block-tridiagonal Hessian
+
+
+@njit(cache=True)
+def local_frames(r, frame):
+    """Radial, azimuthal and axial unit vectors at each link centre (x axis for a
+    centre on the cylinder axis)."""
+    for i in range(r.shape[0]):
+        rho = np.sqrt(r[i, 0] ** 2 + r[i, 1] ** 2)
+        if rho > 1e-14:
+            nx = r[i, 0] / rho
+            ny = r[i, 1] / rho
+        else:
+            nx = 1.0
+            ny = 0.0
+        frame[i, 0, 0] = nx
+        frame[i, 0, 1] = ny
+        frame[i, 0, 2] = 0.0
+        frame[i, 1, 0] = -ny
+        frame[i, 1, 1] = nx
+        frame[i, 1, 2] = 0.0
+        frame[i, 2, 0] = 0.0
+        frame[i, 2, 1] = 0.0
+        frame[i, 2, 2] = 1.0
+
+
+@njit(cache=True)
+def tangent_bases(t, e1, e2):
+    """Orthonormal e1, e2 perpendicular to each unit tangent t (e2 = t x e1)."""
+    for i in range(t.shape[0]):
+        # the coordinate axis least aligned with t, made perpendicular to it
+        ax = np.abs(t[i, 0])
+        ay = np.abs(t[i, 1])
+        az = np.abs(t[i, 2])
+        ux = 0.0
+        uy = 0.0
+        uz = 0.0
+        if ax <= ay and ax <= az:
+            ux = 1.0
+        elif ay <= az:
+            uy = 1.0
+        else:
+            uz = 1.0
+        d = ux * t[i, 0] + uy * t[i, 1] + uz * t[i, 2]
+        ux -= d * t[i, 0]
+        uy -= d * t[i, 1]
+        uz -= d * t[i, 2]
+        n = np.sqrt(ux * ux + uy * uy + uz * uz)
+        e1[i, 0] = ux / n
+        e1[i, 1] = uy / n
+        e1[i, 2] = uz / n
+        e2[i, 0] = t[i, 1] * e1[i, 2] - t[i, 2] * e1[i, 1]
+        e2[i, 1] = t[i, 2] * e1[i, 0] - t[i, 0] * e1[i, 2]
+        e2[i, 2] = t[i, 0] * e1[i, 1] - t[i, 1] * e1[i, 0]
+
+
+@njit(cache=True)
+def smooth_gradient(r, t, nu, rn, tn, frame, e1, e2, cr, ct, par, Fm, Fp, F, M, Nw, g):
+    """Phi_s = E + (cr/2)|r - r_n|^2 + (ct/2)|t - t_n|^2 and its gradient in the
+    step coordinates (cr = beta/dt, ct = gamma_r/dt); nu[i] = |t + a e1 + b e2|
+    before normalisation (1 at the expansion point).  Returns Phi_s."""
+    phi, _, _ = K.conservative_loads(r, t, par, Fm, Fp, F, M, Nw)
+    for i in range(r.shape[0]):
+        dx = r[i, 0] - rn[i, 0]
+        dy = r[i, 1] - rn[i, 1]
+        dz = r[i, 2] - rn[i, 2]
+        phi += 0.5 * cr * (dx * dx + dy * dy + dz * dz)
+        gx = -F[i, 0] + cr * dx
+        gy = -F[i, 1] + cr * dy
+        gz = -F[i, 2] + cr * dz
+        for k in range(3):
+            g[i, k] = frame[i, k, 0] * gx + frame[i, k, 1] * gy + frame[i, k, 2] * gz
+        ux = t[i, 0] - tn[i, 0]
+        uy = t[i, 1] - tn[i, 1]
+        uz = t[i, 2] - tn[i, 2]
+        phi += 0.5 * ct * (ux * ux + uy * uy + uz * uz)
+        # d Phi_s / dt projected on the tangent plane: -(M x t) + ct P_t (t - t_n)
+        ut = ux * t[i, 0] + uy * t[i, 1] + uz * t[i, 2]
+        wx = -(M[i, 1] * t[i, 2] - M[i, 2] * t[i, 1]) + ct * (ux - ut * t[i, 0])
+        wy = -(M[i, 2] * t[i, 0] - M[i, 0] * t[i, 2]) + ct * (uy - ut * t[i, 1])
+        wz = -(M[i, 0] * t[i, 1] - M[i, 1] * t[i, 0]) + ct * (uz - ut * t[i, 2])
+        g[i, 3] = (wx * e1[i, 0] + wy * e1[i, 1] + wz * e1[i, 2]) / nu[i]
+        g[i, 4] = (wx * e2[i, 0] + wy * e2[i, 1] + wz * e2[i, 2]) / nu[i]
+    return phi
+
+
+@njit(cache=True)
+def displace(r, t, frame, e1, e2, p, alpha, r_out, t_out, nu):
+    """State at coordinates alpha * p about (r, t): r + alpha sum_k p_k frame_k,
+    t = (t + alpha (p_3 e1 + p_4 e2)) / nu."""
+    for i in range(r.shape[0]):
+        for c in range(3):
+            r_out[i, c] = r[i, c] + alpha * (p[i, 0] * frame[i, 0, c] + p[i, 1] * frame[i, 1, c]
+                                             + p[i, 2] * frame[i, 2, c])
+        x = t[i, 0] + alpha * (p[i, 3] * e1[i, 0] + p[i, 4] * e2[i, 0])
+        y = t[i, 1] + alpha * (p[i, 3] * e1[i, 1] + p[i, 4] * e2[i, 1])
+        z = t[i, 2] + alpha * (p[i, 3] * e1[i, 2] + p[i, 4] * e2[i, 2])
+        n = np.sqrt(x * x + y * y + z * z)
+        nu[i] = n
+        t_out[i, 0] = x / n
+        t_out[i, 1] = y / n
+        t_out[i, 2] = z / n
+
+
+@njit(cache=True)
+def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw,
+               rp, tp, nu, gp, ab):
+    """Hessian of Phi_s in the step coordinates by one-sided finite differences of
+    the gradient (step h), in LAPACK lower banded storage ab[i - j, j] = H[i, j]
+    (half-bandwidth BAND).  The Hessian is block-tridiagonal (each link interacts
+    with its neighbours only), so links three apart are perturbed together:
+    3 colours x 5 coordinates = 15 gradient evaluations.  The result is
+    symmetrised, (H + H^T)/2."""
+    n = r.shape[0]
+    ab[:, :] = 0.0
+    p = np.zeros((n, NDOF))
+    for colour in range(3):
+        for d in range(NDOF):
+            p[:, :] = 0.0
+            for i in range(colour, n, 3):
+                p[i, d] = 1.0
+            displace(r, t, frame, e1, e2, p, h, rp, tp, nu)
+            smooth_gradient(rp, tp, nu, rn, tn, frame, e1, e2, cr, ct, par, Fm, Fp, F, M, Nw, gp)
+            for j in range(colour, n, 3):
+                col = NDOF * j + d
+                lo = j - 1 if j > 0 else 0
+                hi = j + 1 if j < n - 1 else n - 1
+                for li in range(lo, hi + 1):
+                    for dd in range(NDOF):
+                        row = NDOF * li + dd
+                        v = (gp[li, dd] - g0[li, dd]) / h
+                        if row == col:
+                            ab[0, col] += v
+                        elif row > col:
+                            ab[row - col, col] += 0.5 * v
+                        else:
+                            ab[col - row, row] += 0.5 * v
+
+
+@njit(cache=True)
+def tangential_displacement(r, rn, frame, v):
+    """Displacement of each link centre since the step's start, along the wall's
+    azimuthal and axial directions at r_n (v: (N, 2))."""
+    for i in range(r.shape[0]):
+        dx = r[i, 0] - rn[i, 0]
+        dy = r[i, 1] - rn[i, 1]
+        dz = r[i, 2] - rn[i, 2]
+        for k in range(2):
+            v[i, k] = frame[i, k + 1, 0] * dx + frame[i, k + 1, 1] * dy + frame[i, k + 1, 2] * dz
+
+
+@njit(cache=True)
+def add_friction(v, fmax, mode, u, v_slip, g, ab):
+    """Friction term sum_i f_max,i |v_i| of the sliding links (mode 2) into the
+    gradient g (which holds the smooth gradient on entry) and the banded Hessian
+    ab; returns its value.  The slip direction u[i] is v/|v| with the exact
+    Hessian f_max (I - u u^T)/|v| once |v| >= v_slip; below that (the first
+    iteration of a slip, and the tiny slips of very short steps) it is the
+    direction of the net tangential force, -g_t/|g_t|, which is the slip
+    direction of the solution, and the Hessian is floored at |v| = v_slip."""
+    e = 0.0
+    for i in range(v.shape[0]):
+        if mode[i] != 2:
+            continue
+        nv = np.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
+        e += fmax[i] * nv
+        if nv >= v_slip:
+            u[i, 0] = v[i, 0] / nv
+            u[i, 1] = v[i, 1] / nv
+        else:
+            ng = np.sqrt(g[i, 1] ** 2 + g[i, 2] ** 2)
+            if ng > 0.0:
+                u[i, 0] = -g[i, 1] / ng
+                u[i, 1] = -g[i, 2] / ng
+        c = fmax[i] / max(nv, v_slip)
+        j = NDOF * i + 1
+        ab[0, j] += c * (1.0 - u[i, 0] * u[i, 0])
+        ab[1, j] += -c * u[i, 0] * u[i, 1]
+        ab[0, j + 1] += c * (1.0 - u[i, 1] * u[i, 1])
+        g[i, 1] += fmax[i] * u[i, 0]
+        g[i, 2] += fmax[i] * u[i, 1]
+    return e
+
+
+@njit(cache=True)
+def friction_value(v, fmax, mode):
+    """sum over sliding links (mode 2) of f_max |v|."""
+    e = 0.0
+    for i in range(v.shape[0]):
+        if mode[i] == 2:
+            e += fmax[i] * np.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
+    return e
+
+
+@njit(cache=True)
+def friction_slope(v, fmax, mode, p):
+    """Directional derivative along the Newton direction p of sum over sliding
+    links of f_max |v| (one-sided, f_max |p_t|, at v = 0)."""
+    s = 0.0
+    for i in range(v.shape[0]):
+        if mode[i] != 2:
+            continue
+        nv = np.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
+        if nv > 0.0:
+            s += fmax[i] * (v[i, 0] * p[i, 1] + v[i, 1] * p[i, 2]) / nv
+        else:
+            s += fmax[i] * np.sqrt(p[i, 1] ** 2 + p[i, 2] ** 2)
+    return s
+
+
+@njit(cache=True)
+def pin_stuck(mode, g, ab):
+    """Remove the tangential coordinates of stuck links (mode 1) from the Newton
+    system: their rows and columns become the identity, their gradient zero."""
+    n = mode.shape[0]
+    ndof = NDOF * n
+    for i in range(n):
+        if mode[i] != 1:
+            continue
+        for k in (1, 2):
+            j = NDOF * i + k
+            g[i, k] = 0.0
+            for b in range(BAND + 1):
+                if j + b < ndof:
+                    ab[b, j] = 0.0
+                if b > 0 and j - b >= 0:
+                    ab[b, j - b] = 0.0
+            ab[0, j] = 1.0
