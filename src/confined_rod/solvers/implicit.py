@@ -1,22 +1,24 @@
 """Implicit (backward Euler) integrator of the same overdamped dynamics.
 
-Each step minimises Phi = E + drag + Coulomb dissipation (solvers.implicit_kernels)
-by Newton's method: a finite-difference block-tridiagonal Hessian, a banded
-Cholesky solve (LAPACK via scipy), a backtracking line search on Phi, and an
-active set for Coulomb friction:
+Each step minimises Phi = E + drag + friction (solvers.implicit_kernels) by
+Newton's method: a finite-difference block-tridiagonal Hessian, a banded
+Cholesky solve (LAPACK via scipy), and a line search on the slope of Phi.
 
-* links touching the wall at the step's start are *stuck* (their tangential
-  displacement is held at exactly zero) or *sliding* (friction f_max against the
-  slip direction), starting from the explicit law's decision;
-* a stuck link whose tangential reaction exceeds f_max at the solution starts
-  to slide; a sliding link whose slip reverses sticks; the step is solved again
-  until the set no longer changes.
+Coulomb friction.  The exact dissipation f_max |v| of a link on the wall is not
+differentiable where every slip starts (v = 0).  The solver uses its Moreau
+envelope about a stick anchor: a stuck link is held by a tangential spring of
+stiffness k_t = k_w to its anchor, with the force capped at f_max = min(k_fr N,
+cap); beyond the cap the link slides with friction exactly f_max against its
+slip and drags its anchor along.  Stuck links therefore do not creep (their
+anchor does not move while |F_t| < f_max); they sit within f_max/k_t (< 1e-4 R
+at the defaults) of their anchor, where the explicit scheme holds them rigidly.
+The equilibrium conditions (|F_t| <= f_max on stuck links) are the same.
 
 Step-size control: a step is accepted only if Newton converged, the Hessian was
 positive definite and no link end moved more than ``2 dx_max``; the next step is
 scaled by 0.9 dx_max / (largest displacement), at most doubled.  A failed step
 is retried with dt/4.  dx_max is the accuracy knob: it bounds how far the path
-may be cut short between two evaluations of the friction law and the contact
+may be cut short between two evaluations of the normal forces and the contact
 set.  Near equilibrium the displacements vanish and dt grows without bound, so a
 run ends in a few steps once the shape has settled.
 """
@@ -35,12 +37,10 @@ from .base import relax as _relax
 
 FD_STEP = 1e-7  # finite-difference step of the Hessian (R, rad)
 MAX_NEWTON = 25
-MAX_ACTIVE_SET = 6
 DT_START_FACTOR = 10.0  # first step = this x the explicit stability limit
 DT_MIN_FACTOR = 1e-2  # give up below this x the explicit stability limit
 GROW_MAX = 2.0
 LS_C2 = 0.5  # line search: accept when the slope has fallen to C2 |initial slope|
-V_SLIP = 1e-9  # below this slip (R) a sliding link slips along its net tangential force
 NEWTON_TOL = 0.3  # Newton stops at a step residual of NEWTON_TOL * tol (normalised as eps_F)
 
 
@@ -65,7 +65,6 @@ class ImplicitStepper:
         scale = scene.l0 * scene.load / scene.L
         self.gtol_F = NEWTON_TOL * scene.tol * scale
         self.gtol_M = self.gtol_F * scene.R
-        self.v_slip = V_SLIP * scene.R
         self.step_hint = f"reduce dx_max (now {scene.dx_max})"
         self.ws = Workspace.for_links(n)
         z3 = lambda: np.zeros((n, 3))  # noqa: E731
@@ -74,10 +73,9 @@ class ImplicitStepper:
         self.g, self.g0, self.gp = (np.zeros((n, IK.NDOF)) for _ in range(3))
         self.ab = np.zeros((IK.BAND + 1, IK.NDOF * n))
         self.nu, self.nu1 = np.ones(n), np.ones(n)
-        self.v = np.zeros((n, 2))
-        self.u = np.zeros((n, 2))
         self.fmax = np.zeros(n)
-        self.mode = np.zeros(n, dtype=np.int64)  # 0 free, 1 stuck, 2 sliding
+        self.kt = scene.k_w  # stiffness of the stick spring (N/R per link)
+        self.anchor = None  # stick anchors, set at the first step
 
     # -- one backward-Euler step ------------------------------------------------
     def _smooth(self, r, t, nu, g):
@@ -90,31 +88,24 @@ class ImplicitStepper:
         self.rn[:] = st.r
         self.tn[:] = st.t
         IK.local_frames(self.rn, self.frame)
-        self.mode[:] = 0
-        if not self.use_friction:
-            return
-        ws = self.ws
-        evaluate(self.par, self.rn, self.tn, ws)
-        touching = ws.Nw > 0.0
-        self.fmax[:] = self.scene.k_fr * ws.Nw
-        if self.cap > 0.0:
-            np.minimum(self.fmax, self.cap, out=self.fmax)
-        self.mode[touching] = np.where(ws.stuck[touching] > 0.5, 1, 2)
-        # slip direction of a sliding link: its net tangential force
-        ft = np.einsum("ikc,ic->ik", self.frame[:, 1:, :], ws.F)
-        nf = np.linalg.norm(ft, axis=1)
-        ok = nf > 0
-        self.u[:] = 0.0
-        self.u[ok] = ft[ok] / nf[ok, None]
+        self.fmax[:] = 0.0
+        if self.anchor is None:
+            self.anchor = st.r.copy()
+        if self.use_friction:
+            evaluate(self.par, self.rn, self.tn, self.ws)
+            self.fmax[:] = self.scene.k_fr * self.ws.Nw
+            if self.cap > 0.0:
+                np.minimum(self.fmax, self.cap, out=self.fmax)
 
-    def _stick(self, r: np.ndarray, links: np.ndarray) -> None:
-        """Put links back at their start position along the wall (keep the radial part)."""
-        n = self.frame[links, 0, :]
-        d = r[links] - self.rn[links]
-        r[links] = self.rn[links] + np.einsum("ic,ic->i", d, n)[:, None] * n
+    def _phi(self, r, t, nu, g, hessian: bool = False) -> float:
+        """Phi and its gradient (into g) at (r, t); the friction Hessian into ab."""
+        phi = self._smooth(r, t, nu, g)
+        if self.use_friction:
+            phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, self.ab, hessian)
+        return phi
 
     def _newton(self, r: np.ndarray, t: np.ndarray, st: RunState) -> None:
-        g, ab, v = self.g, self.ab, self.v
+        g, ab = self.g, self.ab
         for it in range(MAX_NEWTON):
             st.count("newton_iterations")
             IK.tangent_bases(t, self.e1, self.e2)
@@ -124,9 +115,8 @@ class ImplicitStepper:
                           FD_STEP, self.g0, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.rp, self.tp, self.nu, self.gp,
                           ab)
             g[:] = self.g0
-            IK.tangential_displacement(r, self.rn, self.frame, v)
-            phi += IK.add_friction(v, self.fmax, self.mode, self.u, self.v_slip, g, ab)
-            IK.pin_stuck(self.mode, g, ab)
+            if self.use_friction:
+                phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, ab, True)
             if (np.abs(g[:, :3]).max() <= self.gtol_F and np.abs(g[:, 3:]).max() <= self.gtol_M):
                 return
             try:
@@ -134,17 +124,9 @@ class ImplicitStepper:
             except (LinAlgError, ValueError):
                 st.count("indefinite_hessians")
                 raise StepFailed("Hessian not positive definite") from None
-            alpha = self._line_search(r, t, p, phi, float(np.dot(g.ravel(), p.ravel())))
+            self._line_search(r, t, p, phi, float(np.dot(g.ravel(), p.ravel())))
             r[:] = self.r2
             t[:] = self.t2
-            if self.use_friction:
-                # a sliding link whose slip has reversed sticks
-                IK.tangential_displacement(r, self.rn, self.frame, v)
-                sliding = np.flatnonzero(self.mode == 2)
-                rev = sliding[np.einsum("ik,ik->i", v[sliding], self.u[sliding]) < 0.0]
-                if rev.size:
-                    self.mode[rev] = 1
-                    self._stick(r, rev)
         raise StepFailed(f"Newton did not converge in {MAX_NEWTON} iterations")
 
     def _line_search(self, r, t, p, phi0: float, slope0: float) -> float:
@@ -166,10 +148,8 @@ class ImplicitStepper:
         alpha, side = 1.0, 0
         for _ in range(30):
             IK.displace(r, t, self.frame, self.e1, self.e2, p, alpha, self.r2, self.t2, self.nu)
-            phi = self._smooth(self.r2, self.t2, self.nu, self.gp)
-            IK.tangential_displacement(self.r2, self.rn, self.frame, self.v)
-            phi += IK.friction_value(self.v, self.fmax, self.mode)
-            slope = float(np.dot(self.gp.ravel(), p.ravel())) + IK.friction_slope(self.v, self.fmax, self.mode, p)
+            phi = self._phi(self.r2, self.t2, self.nu, self.gp)
+            slope = float(np.dot(self.gp.ravel(), p.ravel()))
             if not (np.isfinite(phi) and np.isfinite(slope)):
                 hi, s_hi = alpha, np.inf
             elif phi <= phi0 + slack and (abs(slope) <= lim or (slope < 0.0 and hi is None)):
@@ -196,24 +176,8 @@ class ImplicitStepper:
     def _step(self, st: RunState, dt: float) -> tuple[np.ndarray, np.ndarray]:
         self._start_step(st, dt)
         r, t = st.r.copy(), st.t.copy()
-        for _ in range(MAX_ACTIVE_SET):
-            self._newton(r, t, st)
-            if not self.use_friction:
-                return r, t
-            # stuck links whose reaction exceeds the Coulomb limit start to slide
-            IK.tangent_bases(t, self.e1, self.e2)
-            self._smooth(r, t, self.nu1, self.g0)
-            stuck = np.flatnonzero(self.mode == 1)
-            react = self.g0[stuck, 1:3]
-            nr = np.linalg.norm(react, axis=1)
-            over = nr > self.fmax[stuck] * (1.0 + 1e-9) + self.gtol_F
-            if not over.any():
-                return r, t
-            idx = stuck[over]
-            self.mode[idx] = 2
-            self.u[idx] = -react[over] / nr[over, None]
-            st.count("active_set_changes")
-        raise StepFailed("friction active set did not settle")
+        self._newton(r, t, st)
+        return r, t
 
     # -- adaptive stepping ---------------------------------------------------------
     def advance(self, st: RunState, t_stop: float) -> int:
@@ -232,6 +196,7 @@ class ImplicitStepper:
                 continue
             st.r[:] = r
             st.t[:] = t
+            IK.update_anchors(st.r, self.anchor, self.frame, self.fmax, self.kt)
             st.time += dt
             st.steps += 1
             if dt == self.dt:

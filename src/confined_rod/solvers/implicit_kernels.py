@@ -20,7 +20,7 @@ Coordinates of the Newton iteration, 5 per link (array shapes (N, 5)):
        with e1, e2 an orthonormal basis perpendicular to the current t.
 Only the smooth part Phi_s = E + drag is differentiated numerically (by
 coloured finite differences of the kernel forces); the friction term is added
-analytically by the solver.
+analytically.
 """
 from __future__ import annotations
 
@@ -170,91 +170,68 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
 
 
 @njit(cache=True)
-def tangential_displacement(r, rn, frame, v):
-    """Displacement of each link centre since the step's start, along the wall's
-    azimuthal and axial directions at r_n (v: (N, 2))."""
+def friction_term(r, anchor, frame, fmax, kt, g, ab, hessian):
+    """Coulomb friction of the links on the wall (fmax > 0) as the convex
+    potential H(d) of the tangential offset d of the link centre from its stick
+    anchor (d along the azimuthal and axial directions of the step frame):
+
+        H = (kt/2)|d|^2                      if kt |d| <= fmax   (stick)
+        H = fmax |d| - fmax^2/(2 kt)         otherwise           (slip)
+
+    Its force is -kt d in stick, bounded by fmax, and exactly fmax against the slip
+    in slip.  H is the Moreau envelope of fmax |d|, continuously differentiable,
+    so Newton converges without an active set.  Adds the gradient to g and (if
+    hessian) the Hessian to ab; returns the sum of H."""
+    e = 0.0
     for i in range(r.shape[0]):
-        dx = r[i, 0] - rn[i, 0]
-        dy = r[i, 1] - rn[i, 1]
-        dz = r[i, 2] - rn[i, 2]
-        for k in range(2):
-            v[i, k] = frame[i, k + 1, 0] * dx + frame[i, k + 1, 1] * dy + frame[i, k + 1, 2] * dz
-
-
-@njit(cache=True)
-def add_friction(v, fmax, mode, u, v_slip, g, ab):
-    """Friction term sum_i f_max,i |v_i| of the sliding links (mode 2) into the
-    gradient g (which holds the smooth gradient on entry) and the banded Hessian
-    ab; returns its value.  The slip direction u[i] is v/|v| with the exact
-    Hessian f_max (I - u u^T)/|v| once |v| >= v_slip; below that (the first
-    iteration of a slip, and the tiny slips of very short steps) it is the
-    direction of the net tangential force, -g_t/|g_t|, which is the slip
-    direction of the solution, and the Hessian is floored at |v| = v_slip."""
-    e = 0.0
-    for i in range(v.shape[0]):
-        if mode[i] != 2:
+        if fmax[i] <= 0.0:
             continue
-        nv = np.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
-        e += fmax[i] * nv
-        if nv >= v_slip:
-            u[i, 0] = v[i, 0] / nv
-            u[i, 1] = v[i, 1] / nv
-        else:
-            ng = np.sqrt(g[i, 1] ** 2 + g[i, 2] ** 2)
-            if ng > 0.0:
-                u[i, 0] = -g[i, 1] / ng
-                u[i, 1] = -g[i, 2] / ng
-        c = fmax[i] / max(nv, v_slip)
+        dx = r[i, 0] - anchor[i, 0]
+        dy = r[i, 1] - anchor[i, 1]
+        dz = r[i, 2] - anchor[i, 2]
+        d1 = frame[i, 1, 0] * dx + frame[i, 1, 1] * dy + frame[i, 1, 2] * dz
+        d2 = frame[i, 2, 0] * dx + frame[i, 2, 1] * dy + frame[i, 2, 2] * dz
+        nd = np.sqrt(d1 * d1 + d2 * d2)
         j = NDOF * i + 1
-        ab[0, j] += c * (1.0 - u[i, 0] * u[i, 0])
-        ab[1, j] += -c * u[i, 0] * u[i, 1]
-        ab[0, j + 1] += c * (1.0 - u[i, 1] * u[i, 1])
-        g[i, 1] += fmax[i] * u[i, 0]
-        g[i, 2] += fmax[i] * u[i, 1]
-    return e
-
-
-@njit(cache=True)
-def friction_value(v, fmax, mode):
-    """sum over sliding links (mode 2) of f_max |v|."""
-    e = 0.0
-    for i in range(v.shape[0]):
-        if mode[i] == 2:
-            e += fmax[i] * np.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
-    return e
-
-
-@njit(cache=True)
-def friction_slope(v, fmax, mode, p):
-    """Directional derivative along the Newton direction p of sum over sliding
-    links of f_max |v| (one-sided, f_max |p_t|, at v = 0)."""
-    s = 0.0
-    for i in range(v.shape[0]):
-        if mode[i] != 2:
-            continue
-        nv = np.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2)
-        if nv > 0.0:
-            s += fmax[i] * (v[i, 0] * p[i, 1] + v[i, 1] * p[i, 2]) / nv
+        if kt * nd <= fmax[i]:
+            e += 0.5 * kt * nd * nd
+            g[i, 1] += kt * d1
+            g[i, 2] += kt * d2
+            if hessian:
+                ab[0, j] += kt
+                ab[0, j + 1] += kt
         else:
-            s += fmax[i] * np.sqrt(p[i, 1] ** 2 + p[i, 2] ** 2)
-    return s
+            e += fmax[i] * nd - 0.5 * fmax[i] * fmax[i] / kt
+            u1 = d1 / nd
+            u2 = d2 / nd
+            g[i, 1] += fmax[i] * u1
+            g[i, 2] += fmax[i] * u2
+            if hessian:
+                c = fmax[i] / nd
+                ab[0, j] += c * (1.0 - u1 * u1)
+                ab[1, j] += -c * u1 * u2
+                ab[0, j + 1] += c * (1.0 - u2 * u2)
+    return e
 
 
 @njit(cache=True)
-def pin_stuck(mode, g, ab):
-    """Remove the tangential coordinates of stuck links (mode 1) from the Newton
-    system: their rows and columns become the identity, their gradient zero."""
-    n = mode.shape[0]
-    ndof = NDOF * n
-    for i in range(n):
-        if mode[i] != 1:
+def update_anchors(r, anchor, frame, fmax, kt):
+    """After an accepted step: a link in slip drags its anchor along so that
+    kt |d| = fmax; a link off the wall has its anchor at its centre."""
+    for i in range(r.shape[0]):
+        if fmax[i] <= 0.0:
+            anchor[i, 0] = r[i, 0]
+            anchor[i, 1] = r[i, 1]
+            anchor[i, 2] = r[i, 2]
             continue
-        for k in (1, 2):
-            j = NDOF * i + k
-            g[i, k] = 0.0
-            for b in range(BAND + 1):
-                if j + b < ndof:
-                    ab[b, j] = 0.0
-                if b > 0 and j - b >= 0:
-                    ab[b, j - b] = 0.0
-            ab[0, j] = 1.0
+        dx = r[i, 0] - anchor[i, 0]
+        dy = r[i, 1] - anchor[i, 1]
+        dz = r[i, 2] - anchor[i, 2]
+        d1 = frame[i, 1, 0] * dx + frame[i, 1, 1] * dy + frame[i, 1, 2] * dz
+        d2 = frame[i, 2, 0] * dx + frame[i, 2, 1] * dy + frame[i, 2, 2] * dz
+        nd = np.sqrt(d1 * d1 + d2 * d2)
+        lim = fmax[i] / kt
+        if nd > lim:
+            s = 1.0 - lim / nd
+            for c in range(3):
+                anchor[i, c] += s * (d1 * frame[i, 1, c] + d2 * frame[i, 2, c])
