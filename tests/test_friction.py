@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 
 from confined_rod import Scene
+from confined_rod.solvers import explicit, implicit
 from confined_rod.solvers.base import RunState
-from confined_rod.solvers.explicit import relax
+
+SOLVERS = {"explicit": explicit.relax, "implicit": implicit.relax}
 
 P, KFR, L = 0.1, 0.5, 4.0  # capacity k_fr p L = 0.2
 
@@ -23,7 +25,9 @@ def scene(T, tol=1e-8):
                  name=f"T={T}")
 
 
-def test_below_the_limit_the_rod_sticks_and_never_creeps():
+@pytest.mark.parametrize("solver", sorted(SOLVERS))
+def test_below_the_limit_the_rod_sticks_and_never_creeps(solver):
+    relax = SOLVERS[solver]
     sc = scene(0.1)
     st = RunState(*sc.initial_state())
     relax(sc, st, t_end=2000.0, progress=False)
@@ -34,13 +38,15 @@ def test_below_the_limit_the_rod_sticks_and_never_creeps():
     # run on for 20x as long with an unreachable tolerance: nothing may move along the wall
     sc_long = scene(0.1, tol=1e-300)
     relax(sc_long, st, t_end=t_rest + 20 * max(t_rest, 50.0), progress=False)
-    assert not st.converged and st.steps > 1_000_000
+    assert not st.converged and st.time >= t_rest + 20 * max(t_rest, 50.0) * (1 - 1e-12)
     # stuck links have exactly zero axial velocity; 1e-12 R allows for round-off only
     assert np.abs(st.r[:, 2] - z_rest).max() < 1e-12
     assert np.abs(np.arctan2(st.r[:, 1], st.r[:, 0]) - phi_rest).max() < 1e-12
 
 
-def test_above_the_limit_the_rod_slides_at_the_coulomb_velocity():
+@pytest.mark.parametrize("solver", sorted(SOLVERS))
+def test_above_the_limit_the_rod_slides_at_the_coulomb_velocity(solver):
+    relax = SOLVERS[solver]
     T = 0.3
     sc = scene(T)
     st = RunState(*sc.initial_state())

@@ -52,6 +52,7 @@ class RunState:
     snapshot_r: list = field(default_factory=list)
     stage_converged: list = field(default_factory=list)
     work: dict = field(default_factory=dict)  # solver counters (Newton iterations, rejected steps, ...)
+    anchor: np.ndarray | None = None  # implicit solver: stick anchors of the links on the wall
 
     def take_snapshot(self) -> None:
         self.snapshot_times.append(self.time)

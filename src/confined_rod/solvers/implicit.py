@@ -36,11 +36,11 @@ from .base import RunState, run_protocol
 from .base import relax as _relax
 
 FD_STEP = 1e-7  # finite-difference step of the Hessian (R, rad)
-MAX_NEWTON = 25
+MAX_NEWTON = 40
 DT_START_FACTOR = 10.0  # first step = this x the explicit stability limit
 DT_MIN_FACTOR = 1e-2  # give up below this x the explicit stability limit
 GROW_MAX = 2.0
-LS_C2 = 0.5  # line search: accept when the slope has fallen to C2 |initial slope|
+LS_C2 = 0.1  # line search: accept when the slope has fallen to C2 |initial slope|
 NEWTON_TOL = 0.3  # Newton stops at a step residual of NEWTON_TOL * tol (normalised as eps_F)
 
 
@@ -63,7 +63,9 @@ class ImplicitStepper:
         self.cap = scene.friction_cap * scene.l0
         self.h = 0.5 * scene.l0
         scale = scene.l0 * scene.load / scene.L
-        self.gtol_F = NEWTON_TOL * scene.tol * scale
+        # round-off floor: forces are differences of k (gap) with positions up to L
+        floor = 64 * np.finfo(float).eps * (c.k * scene.L + scene.k_w * scene.R + scene.load)
+        self.gtol_F = max(NEWTON_TOL * scene.tol * scale, floor)
         self.gtol_M = self.gtol_F * scene.R
         self.step_hint = f"reduce dx_max (now {scene.dx_max})"
         self.ws = Workspace.for_links(n)
@@ -75,7 +77,7 @@ class ImplicitStepper:
         self.nu, self.nu1 = np.ones(n), np.ones(n)
         self.fmax = np.zeros(n)
         self.kt = scene.k_w  # stiffness of the stick spring (N/R per link)
-        self.anchor = None  # stick anchors, set at the first step
+        self.anchor = None  # stick anchors: the run state's, set at the first step
 
     # -- one backward-Euler step ------------------------------------------------
     def _smooth(self, r, t, nu, g):
@@ -89,8 +91,9 @@ class ImplicitStepper:
         self.tn[:] = st.t
         IK.local_frames(self.rn, self.frame)
         self.fmax[:] = 0.0
-        if self.anchor is None:
-            self.anchor = st.r.copy()
+        if st.anchor is None:
+            st.anchor = st.r.copy()
+        self.anchor = st.anchor
         if self.use_friction:
             evaluate(self.par, self.rn, self.tn, self.ws)
             self.fmax[:] = self.scene.k_fr * self.ws.Nw

@@ -1,0 +1,64 @@
+"""The implicit (backward-Euler) solver reproduces the explicit scheme's equilibria.
+
+Tolerances.  Both runs stop at eps < tol = 1e-4, which bounds each one's error
+of F_z by tol * load (4e-5 relative to |F_z(L)| ~ 0.1-0.25).  Without friction
+the equilibrium is unique, so the two must agree to that level (2e-4 allows both
+errors and the penalty-level differences).  With friction the equilibrium depends
+on the path; the implicit path differs from the explicit one by O(dx_max), and
+the issue's requirement is the same contact pattern and |F_z(L)| within 1 %.
+"""
+import numpy as np
+import pytest
+
+from confined_rod import Scene, simulate
+from confined_rod.errors import DivergenceError
+
+
+def pair(**kw):
+    out = []
+    for solver in ("explicit", "implicit"):
+        out.append(simulate(Scene(load=0.25, l0=1.0, tol=1e-4, solver=solver, **kw), progress=False))
+    return out
+
+
+def test_frictionless_equilibrium_is_the_same():
+    ex, im = pair(L=20.0, k_fr=0.0)
+    assert ex.converged and im.converged
+    assert float(im.F_transmitted) == pytest.approx(float(ex.F_transmitted), rel=2e-4)
+    np.testing.assert_array_equal(im.contact.values, ex.contact.values)
+    assert float(im.L_z) == pytest.approx(float(ex.L_z), abs=1e-3)
+
+
+@pytest.mark.parametrize("L", [10.0, 20.0])
+def test_frictional_equilibrium_matches_within_one_percent(L):
+    ex, im = pair(L=L, k_fr=0.8)
+    assert ex.converged and im.converged
+    np.testing.assert_array_equal(im.contact.values, ex.contact.values)
+    assert float(im.F_transmitted) == pytest.approx(float(ex.F_transmitted), rel=0.01)
+
+
+def test_implicit_is_the_default_and_takes_few_steps():
+    sc = Scene(L=20.0, load=0.25, k_fr=0.8, l0=1.0, tol=1e-4)
+    assert sc.solver == "implicit"
+    ds = simulate(sc, progress=False)
+    # the explicit scheme needs ~1e6 steps here (dt ~ 3e-4, t ~ 600)
+    assert ds.converged and int(ds.n_steps) < 2000
+
+
+def test_dx_max_is_the_accuracy_knob():
+    """Refining dx_max moves the frictional result towards the explicit one
+    (first order in dx_max)."""
+    ex = simulate(Scene(L=10.0, load=0.25, k_fr=0.8, l0=1.0, tol=1e-4, solver="explicit"), progress=False)
+    errs = []
+    for dx in (0.08, 0.02, 0.005):
+        im = simulate(Scene(L=10.0, load=0.25, k_fr=0.8, l0=1.0, tol=1e-4, dx_max=dx), progress=False)
+        errs.append(abs(float(im.F_transmitted) / float(ex.F_transmitted) - 1))
+    assert errs[2] < errs[0]
+    assert errs[2] < 0.005
+
+
+def test_an_impossible_state_stops_with_a_message():
+    # a bond stiffness far too small for the load: the joints come apart
+    sc = Scene(L=10.0, load=5.0, k_fr=0.0, l0=1.0, k_ph=0.5, tol=1e-4, t_max=1e4)
+    with pytest.raises(DivergenceError, match="scene"):
+        simulate(sc, progress=False)
