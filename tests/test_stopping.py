@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from confined_rod import DivergenceError, Scene, simulate
-from confined_rod.solvers import explicit
+from confined_rod.solvers import base, explicit
 
 
 def test_escape_stops_the_run():
@@ -34,11 +34,12 @@ def test_bonds_tearing_apart_is_reported_as_divergence():
 def test_unstable_time_step_is_reported_as_divergence(monkeypatch):
     monkeypatch.setattr(Scene, "dt", lambda self: 50 * self.constants().dt_stable)
     with pytest.raises(DivergenceError, match=r"scene 'big-step'.*diverged at step \d+ \(t = "):
-        simulate(Scene(L=4.0, load=0.5, name="big-step"), progress=False)
+        simulate(Scene(L=4.0, load=0.5, name="big-step", solver="explicit"), progress=False)
 
 
-def test_planar_protocol_stays_planar_and_touches_the_wall():
-    ds = simulate(Scene(L=20.0, load=0.25, k_fr=0.8, protocol="planar", tol=1e-4), progress=False)
+@pytest.mark.parametrize("solver", ["implicit", "explicit"])
+def test_planar_protocol_stays_planar_and_touches_the_wall(solver):
+    ds = simulate(Scene(L=20.0, load=0.25, k_fr=0.8, protocol="planar", tol=1e-4, solver=solver), progress=False)
     assert int(ds.converged) == 1
     assert np.all(ds.y.values == 0.0)  # exact: every force stays in the x-z plane
     assert int(ds.contact.sum()) >= 2
@@ -67,8 +68,8 @@ def test_snapshots_only_when_asked():
 
 
 def test_progress_is_reported_on_stderr(monkeypatch, capsys):
-    monkeypatch.setattr(explicit, "PROGRESS_AFTER_S", 0.0)
-    monkeypatch.setattr(explicit, "PROGRESS_EVERY_S", 0.0)
+    monkeypatch.setattr(base, "PROGRESS_AFTER_S", 0.0)
+    monkeypatch.setattr(base, "PROGRESS_EVERY_S", 0.0)
     simulate(Scene(L=6.0, load=0.5, t_max=20.0, name="chatty"), progress=True)
     err = capsys.readouterr().err
     assert "[chatty] t = " in err and "eps_F" in err

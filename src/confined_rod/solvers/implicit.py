@@ -94,6 +94,10 @@ class ImplicitStepper:
         if st.anchor is None:
             st.anchor = st.r.copy()
         self.anchor = st.anchor
+        # the mirror symmetry y -> -y of a planar state is kept exactly, as in the
+        # explicit scheme (its forces have no y component); finite-difference
+        # noise in the Hessian would otherwise leak out of the plane
+        self.planar = not (np.any(st.r[:, 1]) or np.any(st.t[:, 1]))
         if self.use_friction:
             evaluate(self.par, self.rn, self.tn, self.ws)
             self.fmax[:] = self.scene.k_fr * self.ws.Nw
@@ -130,6 +134,10 @@ class ImplicitStepper:
             self._line_search(r, t, p, phi, float(np.dot(g.ravel(), p.ravel())))
             r[:] = self.r2
             t[:] = self.t2
+            if self.planar:
+                r[:, 1] = 0.0
+                t[:, 1] = 0.0
+                t /= np.linalg.norm(t, axis=1)[:, None]
         raise StepFailed(f"Newton did not converge in {MAX_NEWTON} iterations")
 
     def _line_search(self, r, t, p, phi0: float, slope0: float) -> float:
