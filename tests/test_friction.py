@@ -35,13 +35,22 @@ def test_below_the_limit_the_rod_sticks_and_never_creeps(solver):
     t_rest = st.time
     z_rest = st.r[:, 2].copy()
     phi_rest = np.arctan2(st.r[:, 1], st.r[:, 0])
-    # run on for 20x as long with an unreachable tolerance: nothing may move along the wall
+    # run on for 2 x 10x as long with an unreachable tolerance: nothing may creep along the wall.
+    # The implicit solver holds a stuck link with a stiff spring (k_w) to its stick anchor; as its
+    # Newton residual falls from the step's forcing level to round-off the rod may settle within
+    # that spring, by (residual force)/k_w << f_max/k_w = 2.5e-5 R here, once.  Creep would move
+    # it by as much again in the second half; 1e-12 R allows for round-off only.
     sc_long = scene(0.1, tol=1e-300)
-    relax(sc_long, st, t_end=t_rest + 20 * max(t_rest, 50.0), progress=False)
-    assert not st.converged and st.time >= t_rest + 20 * max(t_rest, 50.0) * (1 - 1e-12)
-    # stuck links have exactly zero axial velocity; 1e-12 R allows for round-off only
-    assert np.abs(st.r[:, 2] - z_rest).max() < 1e-12
-    assert np.abs(np.arctan2(st.r[:, 1], st.r[:, 0]) - phi_rest).max() < 1e-12
+    span = 10 * max(t_rest, 50.0)
+    relax(sc_long, st, t_end=t_rest + span, progress=False)
+    assert not st.converged and st.time >= (t_rest + span) * (1 - 1e-12)
+    settle = {"explicit": 1e-12, "implicit": 1e-9}[solver]
+    assert np.abs(st.r[:, 2] - z_rest).max() < settle
+    z_mid, phi_mid = st.r[:, 2].copy(), np.arctan2(st.r[:, 1], st.r[:, 0])
+    assert np.abs(phi_mid - phi_rest).max() < settle
+    relax(sc_long, st, t_end=t_rest + 2 * span, progress=False)
+    assert np.abs(st.r[:, 2] - z_mid).max() < 1e-12
+    assert np.abs(np.arctan2(st.r[:, 1], st.r[:, 0]) - phi_mid).max() < 1e-12
 
 
 @pytest.mark.parametrize("solver", sorted(SOLVERS))

@@ -33,8 +33,9 @@ DEFAULT_K_W = 1000.0  # EI/R^3 per link end: penetration <= N/k_w
 DEFAULT_FRICTION_CAP = 0.1  # EI/R^3, friction per unit length; 8x the bulk k_fr K at load 0.25
 DEFAULT_PERTURBATION = 1e-3  # R
 DEFAULT_KICK = 0.1  # R
-DEFAULT_T_MAX = 2e5  # beta_ph R^4/EI
-DEFAULT_DX_MAX = 0.05  # R, largest displacement of a link end per implicit step
+DEFAULT_T_MAX = 2e5  # beta_ph R^4/EI; explicit solver, whose cost is proportional to simulated time
+DEFAULT_T_MAX_IMPLICIT = 1e9  # implicit solver: its steps grow as the rod settles, time is nearly free
+DEFAULT_DX_MAX = 0.02  # R, largest displacement of a link end per implicit step
 
 _SCI = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+$")
 
@@ -76,10 +77,12 @@ class Scene:
       solver        'implicit' (backward Euler with Newton steps, the fast default) or
                     'explicit' (the paper's forward Euler, the reference)
       dx_max        implicit: largest displacement of a link end per step (R); the
-                    accuracy knob of the implicit path (default 0.05 R)
+                    accuracy knob of the implicit path (default 0.02 R)
       dt_factor     explicit: time step as a fraction of the estimated stability limit
       tol           equilibrium when max|F_i| L/(l0 load) and max|M_i x t_i| L/(l0 load R) < tol
       t_max         cap on simulated time; reaching it flags the run as not converged
+                    (default 2e5 beta_ph R^4/EI explicit, 1e9 implicit: a frictional helix
+                    settles slowly, over ~5e5 at L = 320 R, and the implicit steps grow as it does)
       rotational_drag 'paper' (gamma_r = beta_ph l0 R^2) or 'rigid_link' (beta_ph l0^3/12)
       snapshot_interval simulated time between stored shapes; 0 = none
     """
@@ -248,7 +251,7 @@ def _validate(s: Scene) -> None:
         "l0": DEFAULT_L0 * R, "k_ph": DEFAULT_K_PH * EI / R**2, "k_w": DEFAULT_K_W * EI / R**3,
         "friction_cap": DEFAULT_FRICTION_CAP * EI / R**3, "perturbation": DEFAULT_PERTURBATION * R,
         "kick": DEFAULT_KICK * R,
-        "t_max": DEFAULT_T_MAX * R**4 / EI, "pore_length": float(s.L), "dx_max": DEFAULT_DX_MAX * R,
+        "t_max": (DEFAULT_T_MAX_IMPLICIT if s.solver == "implicit" else DEFAULT_T_MAX) * R**4 / EI, "pore_length": float(s.L), "dx_max": DEFAULT_DX_MAX * R,
     }
     for key, default in resolved.items():
         object.__setattr__(s, key, float(default if getattr(s, key) is None else getattr(s, key)))

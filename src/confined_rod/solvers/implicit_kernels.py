@@ -138,7 +138,8 @@ def displace(r, t, frame, e1, e2, p, alpha, r_out, t_out, nu):
 def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw,
                rp, tp, nu, gp, ab):
     """Hessian of Phi_s in the step coordinates by one-sided finite differences of
-    the gradient (step h), in LAPACK lower banded storage ab[i - j, j] = H[i, j]
+    the gradient (step h[d] in coordinate d: a length for 0-2, an angle for 3-4,
+    so that the scheme is invariant under a change of units), in LAPACK lower banded storage ab[i - j, j] = H[i, j]
     (half-bandwidth BAND).  The Hessian is block-tridiagonal (each link interacts
     with its neighbours only), so links three apart are perturbed together:
     3 colours x 5 coordinates = 15 gradient evaluations.  The result is
@@ -150,8 +151,8 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
         for d in range(NDOF):
             p[:, :] = 0.0
             for i in range(colour, n, 3):
-                p[i, d] = 1.0
-            displace(r, t, frame, e1, e2, p, h, rp, tp, nu)
+                p[i, d] = h[d]
+            displace(r, t, frame, e1, e2, p, 1.0, rp, tp, nu)
             smooth_gradient(rp, tp, nu, rn, tn, frame, e1, e2, cr, ct, par, Fm, Fp, F, M, Nw, gp)
             for j in range(colour, n, 3):
                 col = NDOF * j + d
@@ -160,7 +161,7 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
                 for li in range(lo, hi + 1):
                     for dd in range(NDOF):
                         row = NDOF * li + dd
-                        v = (gp[li, dd] - g0[li, dd]) / h
+                        v = (gp[li, dd] - g0[li, dd]) / h[d]
                         if row == col:
                             ab[0, col] += v
                         elif row > col:
