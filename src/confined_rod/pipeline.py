@@ -6,13 +6,14 @@ package never imports Snakemake.  A config is a mapping
     scene_defaults: {<Scene field>: value, ...}          # optional, every scene
     figures:
       <figure id>:
-        kind: transmitted_force | force_profile
+        kind: transmitted_force | force_profile | convergence | time_vs_error
         paper_figure: <number in the paper>
         title: <one line>
         defaults: {<Scene field>: value, ...}            # every scene of this figure
         scenes:
           <scene id>: {<Scene field>: value, ...}
-        ... kind-specific entries (panel_parameter, fit_trim)
+        ... kind-specific entries (panel_parameter, fit_trim; parameter, tolerance,
+            on_inconclusive; reference)
 
 A scene's parameters are scene_defaults, then the figure's defaults, then its
 own entries.  The JSON schema (workflow/schemas/config.schema.yaml) checks
@@ -26,8 +27,9 @@ from pathlib import Path
 from typing import Any
 
 from .scenes import Scene, SceneError
+from .studies import REFINEMENT
 
-FIGURE_KINDS = ("transmitted_force", "force_profile")
+FIGURE_KINDS = ("transmitted_force", "force_profile", "convergence", "time_vs_error")
 RESULTS = Path("results")
 
 
@@ -99,13 +101,32 @@ def figure_sims(config: dict[str, Any], figure: str) -> list[str]:
     return [sim_path(*canonical_scene(config, figure, s)) for s in scenes(config, figure)]
 
 
+def check_path(figure: str) -> str:
+    return str(RESULTS / "checks" / f"{figure}.txt")
+
+
+def convergence_figures(config: dict[str, Any]) -> list[str]:
+    return [f for f in figures(config) if config["figures"][f]["kind"] == "convergence"]
+
+
+def publication_value(config: dict[str, Any], figure: str) -> float:
+    """The value of a convergence figure's parameter in the publication settings:
+    scene_defaults if set there, else the Scene default."""
+    param = config["figures"][figure]["parameter"]
+    defaults = config.get("scene_defaults") or {}
+    if param in defaults:
+        return float(defaults[param])
+    return float(getattr(Scene(**{k: v for k, v in defaults.items() if k != param}), param))
+
+
 def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
     """Every artifact a full run of this config produces, by kind."""
-    out: dict[str, list[str]] = {"sims": [], "datasets": [], "figures": []}
+    out: dict[str, list[str]] = {"sims": [], "datasets": [], "figures": [], "checks": []}
     for f in figures(config):
         out["sims"] += [p for p in figure_sims(config, f) if p not in out["sims"]]
         out["datasets"].append(dataset_path(f))
         out["figures"] += list(figure_paths(f))
+    out["checks"] = [check_path(f) for f in convergence_figures(config)]
     return out
 
 
@@ -136,6 +157,24 @@ def validate(config: dict[str, Any]) -> None:
                                            f"panel_parameter ({p!r})")
             if p and len({getattr(s, p) for s in built.values()}) != len(built):
                 raise ConfigError(f"figures.{f}.scenes: two panels have the same {p} value")
+        elif kind == "convergence":
+            p = fig.get("parameter")
+            if p not in REFINEMENT:
+                raise ConfigError(f"figures.{f}.parameter: {p!r} is not one of {', '.join(REFINEMENT)}")
+            _same_except(f, built, (p,), f"the rungs of a convergence ladder differ only in {p}")
+            vals = sorted({getattr(s, p) for s in built.values()})
+            if len(vals) < 3:
+                raise ConfigError(f"figures.{f}.scenes: a convergence ladder needs at least 3 values of {p}")
+            pub = publication_value(config, f)
+            if not any(abs(v - pub) <= 1e-9 * abs(pub) for v in vals):
+                raise ConfigError(f"figures.{f}.scenes: the ladder over {p} ({', '.join(f'{v:g}' for v in vals)}) "
+                                  f"must contain the publication value {p} = {pub:g}")
+        elif kind == "time_vs_error":
+            ref = fig.get("reference")
+            if ref not in built:
+                raise ConfigError(f"figures.{f}.reference: {ref!r} is not one of its scenes ({', '.join(built)})")
+            _same_except(f, built, ("solver", "l0", "dx_max", "dt_factor", "tol"),
+                         "the runs of a time-vs-error figure differ only in their numerics")
 
 
 def _same_except(figure: str, built: dict[str, Scene], varied: tuple[str, ...], why: str) -> None:
@@ -159,6 +198,20 @@ def caption(config: dict[str, Any], figure: str) -> str:
               f"perturbation {sc.perturbation:g} R; numerics: l0 = {sc.l0:g} R, k_ph = {sc.k_ph:g} EI/R^2, "
               f"k_w = {sc.k_w:g} EI/R^3, solver '{sc.solver}', tol = {sc.tol:g}")
     head = f"{fig.get('title', figure)} (paper Fig. {fig.get('paper_figure', '?')})."
+    if fig["kind"] == "convergence":
+        p = fig["parameter"]
+        vals = ", ".join(f"{getattr(s, p):g}" for s in built)
+        body = (f" Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}): transmitted force, L_z and "
+                f"bulk pitch against the refinement variable, with the Richardson limit from the three finest "
+                f"rungs and the band of +-{100 * float(fig['tolerance']):g} % about it that the publication "
+                f"value {p} = {publication_value(config, figure):g} must lie in.")
+        common = common.replace(f"{p} = {getattr(sc, p):g}", f"{p} varied")
+        return head + body + " Parameters: " + common + "."
+    if fig["kind"] == "time_vs_error":
+        body = (f" Wall time against the error of |F_z(L)|, L/R = {sc.L:g}, k_fr = {sc.k_fr:g}, both solvers "
+                f"over ladders of their step knob and of l0; error against the reference run "
+                f"'{fig['reference']}'.")
+        return head + body + " Parameters: " + common + "."
     if fig["kind"] == "transmitted_force":
         Ls = ", ".join(f"{s.L:g}" for s in built)
         body = (f" Force |F_z(L)| transmitted to the lower piston against the rod length L/R = {Ls}, "

@@ -13,15 +13,19 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from . import theory
+from . import studies, theory
 from .fits import PARAMS, FitError, fit_power_law
 from .io import finalize, variable
 from .quantities import attrs, error_attrs
 
 
-def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset]) -> xr.Dataset:
+def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset],
+          publication_value: float | None = None) -> xr.Dataset:
     kind = fig_cfg["kind"]
-    builder = {"transmitted_force": transmitted_force, "force_profile": force_profile}.get(kind)
+    builders = {"transmitted_force": transmitted_force, "force_profile": force_profile,
+                "time_vs_error": studies.time_vs_error,
+                "convergence": lambda c, s: studies.convergence(c, s, publication_value)}
+    builder = builders.get(kind)
     if builder is None:
         raise ValueError(f"figures.{figure}.kind: unknown figure kind {kind!r}")
     ds = builder(fig_cfg, sims)
@@ -34,15 +38,18 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
         meta.setdefault(key, first.attrs[key])
     if kind == "transmitted_force":
         meta.pop("L")
+    if kind == "convergence":
+        meta.pop(fig_cfg["parameter"], None)
+    if kind == "time_vs_error":
+        for k in ("solver", "l0", "tol"):
+            meta.pop(k, None)
     if fig_cfg.get("panel_parameter"):
         meta.pop(fig_cfg["panel_parameter"], None)
     return finalize(ds, f"{fig_cfg.get('title', figure)} (paper Fig. {meta['paper_figure']})", meta)
 
 
 # -- helpers over one scene dataset ------------------------------------------------
-def n_turns(sim: xr.Dataset) -> float:
-    phi = sim["phi"].values
-    return float(abs(phi[-1] - phi[0]) / (2 * np.pi)) if phi.size >= 2 else 0.0
+n_turns = studies.n_turns
 
 
 def contact_range(sim: xr.Dataset) -> tuple[float, float]:

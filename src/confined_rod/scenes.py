@@ -251,7 +251,8 @@ def _validate(s: Scene) -> None:
         "l0": DEFAULT_L0 * R, "k_ph": DEFAULT_K_PH * EI / R**2, "k_w": DEFAULT_K_W * EI / R**3,
         "friction_cap": DEFAULT_FRICTION_CAP * EI / R**3, "perturbation": DEFAULT_PERTURBATION * R,
         "kick": DEFAULT_KICK * R,
-        "t_max": (DEFAULT_T_MAX_IMPLICIT if s.solver == "implicit" else DEFAULT_T_MAX) * R**4 / EI, "pore_length": float(s.L), "dx_max": DEFAULT_DX_MAX * R,
+        "t_max": (DEFAULT_T_MAX_IMPLICIT if s.solver == "implicit" else DEFAULT_T_MAX) * R**4 / EI,
+        "pore_length": float(s.L), "dx_max": DEFAULT_DX_MAX * R,
     }
     for key, default in resolved.items():
         object.__setattr__(s, key, float(default if getattr(s, key) is None else getattr(s, key)))
