@@ -40,3 +40,4 @@ rule all:
     default_target: True
     input:
         ALL_TARGETS["figures"],
+        ALL_TARGETS["checks"],

@@ -73,8 +73,13 @@ def test_shared_scenes_are_simulated_once():
     # Fig 4(c) (L 320, load 0.25, k_fr 0.8) is the L = 320 point of Fig 6
     assert pipeline.canonical_scene(config, "fig4_Fonl", "c") == ("fig6_FonL", "L320")
     assert pipeline.canonical_scene(config, "fig4_Fonl", "a") == ("fig4_Fonl", "a")
+    # every convergence ladder's publication rung is a scene simulated anyway
+    assert pipeline.canonical_scene(config, "conv_l0", "l0_05") == ("fig6_FonL", "L80")
+    assert pipeline.canonical_scene(config, "conv_tol", "tol5") == ("fig6_FonL", "L80")
+    assert pipeline.canonical_scene(config, "conv_k_ph_frictionless", "k10000") == ("conv_l0_frictionless", "l0_05")
     sims = pipeline.expected_outputs(config)["sims"]
-    assert len(sims) == len(set(sims)) == 8
+    # 6 + 2 paper scenes, 18 new ladder rungs (of 23), 12 time-vs-error runs
+    assert len(sims) == len(set(sims)) == 8 + 18 + 12
 
 
 def test_snakemake_stops_on_a_bad_config_before_any_job(tmp_path):
@@ -168,3 +173,24 @@ def test_logged_keeps_the_traceback(tmp_path):
             1 / 0
     text = log.read_text()
     assert "started" in text and "ZeroDivisionError" in text
+
+
+def test_numerical_study_figures_are_validated():
+    config = load(ROOT / "config/ci.yaml")
+    bad = copy.deepcopy(config)
+    del bad["figures"]["conv_l0"]["scenes"]["l0_1"]  # the publication value l0 = 1 is no longer a rung
+    with pytest.raises(pipeline.ConfigError, match=r"conv_l0.*at least 3 values|conv_l0.*publication value"):
+        pipeline.validate(bad)
+    bad = copy.deepcopy(config)
+    bad["figures"]["conv_k_ph"]["scenes"]["k100"]["L"] = 30  # rungs must differ only in k_ph
+    with pytest.raises(pipeline.ConfigError, match=r"conv_k_ph.*differ only in k_ph"):
+        pipeline.validate(bad)
+    bad = copy.deepcopy(config)
+    bad["figures"]["benchmark_time_vs_error"]["reference"] = "nope"
+    with pytest.raises(pipeline.ConfigError, match=r"benchmark_time_vs_error\.reference: 'nope'"):
+        pipeline.validate(bad)
+    assert pipeline.publication_value(config, "conv_l0") == 1.0
+    assert pipeline.publication_value(config, "conv_k_ph") == Scene(L=10.0).k_ph  # Scene default
+    outs = pipeline.expected_outputs(config)
+    assert sorted(outs["checks"]) == sorted(f"results/checks/{f}.txt"
+                                            for f in ("conv_l0", "conv_k_ph", "conv_l0_friction"))

@@ -62,6 +62,14 @@ def check_pdf(path: Path) -> list[str]:
     return []
 
 
+def check_verdict(path: Path) -> list[str]:
+    """A convergence check's verdict: one line ending in pass or inconclusive (a fail stops the build)."""
+    text = path.read_text().strip()
+    if ": pass" not in text and ": inconclusive" not in text:
+        return [f"{path}: not a convergence verdict: {text[:80]!r}"]
+    return []
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("config")
@@ -78,7 +86,7 @@ def main(argv=None) -> int:
                 errors.append(f"{p}: missing or empty")
                 continue
             try:
-                check = {".nc": check_netcdf, ".png": check_png, ".pdf": check_pdf}[p.suffix]
+                check = {".nc": check_netcdf, ".png": check_png, ".pdf": check_pdf, ".txt": check_verdict}[p.suffix]
                 errors += check(p)
             except Exception as e:  # noqa: BLE001 - any failure to open is a failed check
                 errors.append(f"{p}: cannot be read: {type(e).__name__}: {e}")

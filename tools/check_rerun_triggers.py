@@ -27,6 +27,8 @@ PROBES = {
     PKG / "fits.py": ({"postprocess", "figure"}, {"simulate"}),
     PKG / "model" / "kernels.py": ({"simulate", "postprocess", "figure"}, set()),
     PKG / "solvers" / "explicit.py": ({"simulate"}, set()),
+    PKG / "solvers" / "implicit.py": ({"simulate"}, set()),
+    PKG / "studies.py": ({"postprocess", "convergence_check", "figure"}, {"simulate"}),
 }
 
 

@@ -91,11 +91,22 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write netCDF4 atomically: a temporary file in the same folder, renamed on success,
     so a failed job leaves no half-written file."""
     check_finite(ds)
+    return _atomic(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
+
+
+def write_text(text: str, path: str | Path) -> Path:
+    """Write a text file atomically (same scheme as write_dataset)."""
+    return _atomic(path, lambda tmp: tmp.write_text(text))
+
+
+def _atomic(path: str | Path, write) -> Path:
+    """Call write(tmp) on a temporary file in the target's folder, then rename it
+    over the target; on any error the temporary file is removed."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
+        write(tmp)
         os.replace(tmp, path)
     finally:
         if tmp.exists():

@@ -159,6 +159,8 @@ def validate(config: dict[str, Any]) -> None:
                 raise ConfigError(f"figures.{f}.scenes: two panels have the same {p} value")
         elif kind == "convergence":
             p = fig.get("parameter")
+            if "tolerance" not in fig:
+                raise ConfigError(f"figures.{f}: a convergence figure needs a 'tolerance' (relative, e.g. 0.01)")
             if p not in REFINEMENT:
                 raise ConfigError(f"figures.{f}.parameter: {p!r} is not one of {', '.join(REFINEMENT)}")
             _same_except(f, built, (p,), f"the rungs of a convergence ladder differ only in {p}")
@@ -173,7 +175,7 @@ def validate(config: dict[str, Any]) -> None:
             ref = fig.get("reference")
             if ref not in built:
                 raise ConfigError(f"figures.{f}.reference: {ref!r} is not one of its scenes ({', '.join(built)})")
-            _same_except(f, built, ("solver", "l0", "dx_max", "dt_factor", "tol"),
+            _same_except(f, built, ("solver", "l0", "dx_max", "dt_factor", "tol", "t_max"),
                          "the runs of a time-vs-error figure differ only in their numerics")
 
 

@@ -41,7 +41,8 @@ PAPER = dict(color="0.45", ls=":", lw=1.2)
 
 def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:
     kind = ds.attrs["kind"]
-    fn = {"transmitted_force": transmitted_force, "force_profile": force_profile}.get(kind)
+    fn = {"transmitted_force": transmitted_force, "force_profile": force_profile,
+          "convergence": convergence, "time_vs_error": time_vs_error}.get(kind)
     if fn is None:
         raise ValueError(f"no plot for figure kind {kind!r}")
     check_finite(ds, "plot")
@@ -78,7 +79,7 @@ def _plain_log_ticks(axis) -> None:
 
 # symbols and units of the scene parameters named in titles
 _SYM = {"load": r"|F_z(0)|", "k_fr": r"k_{fr}", "L": "L", "l0": "l_0", "seed": r"\mathrm{seed}",
-        "friction_cap": r"f_{cap}"}
+        "friction_cap": r"f_{cap}", "k_ph": r"k_{ph}", "k_w": "k_w", "tol": r"\mathrm{tol}"}
 _UNIT = {"load": r"\,EI/R^2", "L": r"\,R", "l0": r"\,R", "friction_cap": r"\,EI/R^3"}
 
 
@@ -107,7 +108,7 @@ def transmitted_force(ds: xr.Dataset):
     ax.set_xlabel(label("L"))
     ax.set_ylabel(label("F_transmitted"))
     ax.set_title(_params_text(ds, ("load", "k_fr", "l0")), fontsize=9)
-    ax.legend(loc="lower left")
+    ax.legend(loc="best")
     return fig
 
 
@@ -145,3 +146,84 @@ def force_profile(ds: xr.Dataset):
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     return fig
 
+
+
+_H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w": r"$h = 1/k_w$ [$R^3/EI$]",
+            "tol": r"$h = \mathrm{tol}$"}
+
+
+def convergence(ds: xr.Dataset):
+    """One panel per observable against the refinement variable h (log axis): the
+    rungs, the Richardson limit, the tolerance band about it and the publication rung."""
+    obs = [k for k in ("F_transmitted", "L_z", "pitch") if k in ds]
+    fig, axes = plt.subplots(1, len(obs), figsize=(2.7 * len(obs) + 0.4, 3.0), squeeze=False,
+                             label=ds.attrs["title"])
+    h = ds["h"].values
+    param = ds.attrs["parameter"]
+    pub = np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9)
+    tol = float(ds.attrs["tolerance"])
+    checked = list(ds["observable"].values)
+    for ax, k in zip(axes[0], obs):
+        f = ds[k].values
+        ax.plot(h, f, "-", color="0.6", lw=0.7)
+        ax.plot(h, f, "o", ms=4.5, **SIM, label="rungs")
+        ax.plot(h[pub], f[pub], "s", ms=9, mfc="none", mec="tab:green", mew=1.4, label="publication setting")
+        if k in checked:
+            i = checked.index(k)
+            lim = float(ds[f"{k}_limit"])
+            ax.axhline(lim, **MODEL, label="Richardson limit")
+            ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
+                       label=rf"limit $\pm$ {100 * tol:g} %")
+            order = float(ds.observed_order[i])
+            ax.text(0.04, 0.96, (f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable") + "\n"
+                    f"pub.: {100 * float(ds.publication_distance[i]):.2g} % off",
+                    transform=ax.transAxes, va="top", fontsize=7.5)
+        else:
+            ax.text(0.04, 0.96, "not checked\n(not every rung is a helix)", transform=ax.transAxes,
+                    va="top", fontsize=7.5)
+        ax.set_xscale("log")
+        _plain_log_ticks(ax.xaxis)
+        ax.set_xlabel(_H_LABEL[param])
+        ax.set_ylabel(label(k))
+    status = ds.attrs["status"]
+    short = status if len(status) < 70 else status[:67] + "..."
+    fig.suptitle(f"convergence in ${_SYM.get(param, param)}$: {short}\n"
+                 + _params_text(ds, ("L", "load", "k_fr")), fontsize=9)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, -0.01))
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    return fig
+
+
+def time_vs_error(ds: xr.Dataset):
+    """Wall time against error, log-log, one line per solver and link length."""
+    fig, ax = plt.subplots(figsize=(4.8, 3.6), label=ds.attrs["title"])
+    err = ds["error"].values
+    wall = ds["wall_time"].values
+    solver = ds["solver"].values
+    l0 = ds["run_l0"].values
+    knob = ds["run_knob"].values
+    marker = {"implicit": "o", "explicit": "s"}
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    groups = sorted({(str(a), float(b)) for a, b in zip(solver, l0)})
+    for j, (sv, lk) in enumerate(groups):
+        m = (solver == sv) & np.isclose(l0, lk)
+        order = np.argsort(knob[m])
+        ax.plot(err[m][order], wall[m][order], marker=marker[sv], ms=5, color=colours[j % len(colours)],
+                label=rf"{sv}, $l_0 = {lk:g}\,R$")
+        for e, w, kv in zip(err[m], wall[m], knob[m]):
+            ax.annotate(f"{kv:g}", (e, w), xytext=(3, 3), textcoords="offset points", fontsize=6.5,
+                        color=colours[j % len(colours)])
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    _plain_log_ticks(ax.yaxis)
+    ax.set_xlabel(label("error"))
+    ax.set_ylabel(label("wall_time", "s"))
+    ax.set_title(_params_text(ds, ("L", "load", "k_fr")), fontsize=9)
+    fig.text(0.02, -0.02, "error $\\epsilon = |F_z(L) - F_{ref}|/F_{ref}$; reference: "
+             f"{ds.attrs['reference_solver']}, $l_0 = {float(ds.attrs['reference_l0']):g}\\,R$, "
+             f"{ds.attrs['reference_knob']} ({float(ds.attrs['reference_wall_time']):.3g} s).\n"
+             "Point labels: $dx_{max}$ [R] (implicit), tol (explicit). Wall time of one simulate job.",
+             ha="left", va="top", fontsize=7)
+    ax.legend(loc="best")
+    return fig

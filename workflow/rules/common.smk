@@ -20,7 +20,7 @@ ALL_TARGETS = pipeline.expected_outputs(config)
 # its code changes: a change to the physics re-runs the simulations, a change to
 # the fits re-runs only the postprocessing, a change to the styling only the figures.
 _PKG = Path(workflow.basedir) / "src" / "confined_rod"
-POSTPROCESS_CODE = [str(_PKG / f) for f in ("postprocess.py", "fits.py", "theory.py")]
+POSTPROCESS_CODE = [str(_PKG / f) for f in ("postprocess.py", "fits.py", "theory.py", "studies.py")]
 FIGURE_CODE = [str(_PKG / "plotting.py")]
 SIMULATION_CODE = sorted(
     str(p)
@@ -34,8 +34,19 @@ def scene_sims(wildcards):
     return pipeline.figure_sims(config, wildcards.figure)
 
 
+def publication_value(wildcards):
+    """Convergence figures: the parameter's value in the publication settings."""
+    fig = config["figures"][wildcards.figure]
+    if fig["kind"] != "convergence":
+        return None
+    return pipeline.publication_value(config, wildcards.figure)
+
+
 def simulate_runtime(wildcards):
-    """Minutes, for a cluster scheduler: the explicit solver's measured cost grows
-    roughly as L^2.5 (benchmarks/results/core.json: L/R = 80 took 7 min)."""
-    L = pipeline.build_scene(config, wildcards.figure, wildcards.scene).L
-    return int(10 + 8 * (L / 80.0) ** 2.5)
+    """Minutes, for a cluster scheduler.  Explicit solver: its measured cost grows
+    roughly as L^2.5 (benchmarks/results/core.json: L/R = 80 took 7 min).  Implicit
+    solver: seconds up to L/R = 320 (benchmarks/results/solvers.json); generous."""
+    sc = pipeline.build_scene(config, wildcards.figure, wildcards.scene)
+    if sc.solver == "explicit":
+        return int(10 + 8 * (sc.L / 80.0) ** 2.5 * (0.5 / sc.l0) ** 3)
+    return int(10 + 30 * (sc.L / 320.0) ** 2 * (0.5 / sc.l0) ** 2)

@@ -8,6 +8,7 @@ rule postprocess:
     params:
         figure_config=lambda wildcards: config["figures"][wildcards.figure],
         scenes=lambda wildcards: pipeline.scenes(config, wildcards.figure),
+        publication_value=publication_value,
     log:
         "results/logs/postprocess/{figure}.log",
     benchmark:
@@ -20,3 +21,29 @@ rule postprocess:
         "../envs/confined_rod.yaml"
     script:
         "../scripts/postprocess.py"
+
+
+rule convergence_check:
+    """Fail the build if the publication settings are further from the extrapolated
+    limit than the config's tolerance (or the check is inconclusive and the config
+    says that fails too); otherwise write the one-line verdict."""
+    input:
+        "results/datasets/{figure}.nc",
+    output:
+        "results/checks/{figure}.txt",
+    params:
+        on_inconclusive=lambda wildcards: config["figures"][wildcards.figure].get(
+            "on_inconclusive", "fail"
+        ),
+    log:
+        "results/logs/convergence_check/{figure}.log",
+    benchmark:
+        "results/benchmarks/convergence_check/{figure}.tsv"
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    conda:
+        "../envs/confined_rod.yaml"
+    script:
+        "../scripts/convergence_check.py"

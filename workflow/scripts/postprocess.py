@@ -11,6 +11,7 @@ from confined_rod.pipeline import logged
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     sims = {name: xr.load_dataset(path)
             for name, path in zip(snakemake.params.scenes, snakemake.input.sims)}  # noqa: F821
-    ds = postprocess.build(snakemake.wildcards.figure, snakemake.params.figure_config, sims)  # noqa: F821
+    ds = postprocess.build(snakemake.wildcards.figure, snakemake.params.figure_config, sims,  # noqa: F821
+                           publication_value=snakemake.params.publication_value)  # noqa: F821
     write_dataset(ds, snakemake.output[0])  # noqa: F821
     print(ds)

@@ -1,0 +1,73 @@
+"""Convergence studies: Richardson extrapolation, the like-with-like rule and the
+build-failing check, on synthetic scene datasets with known answers."""
+import numpy as np
+import pytest
+import xarray as xr
+
+from confined_rod import studies
+
+
+def fake_sim(value, F, L_z=10.0, turns=2.0, param="l0"):
+    """A minimal scene dataset: a helix of `turns` turns on a 40-link contact stretch."""
+    n = 40
+    phi = np.linspace(0.0, 2 * np.pi * turns, n)
+    s = np.linspace(0.0, 20.0, n)
+    z = 0.5 * s
+    return xr.Dataset(
+        {"phi": ("helix", phi), "z": ("s_link", z), "F_transmitted": ((), F), "L_z": ((), L_z),
+         "converged": ((), 1), "wall_time": ((), 0.1)},
+        coords={"s_link": s, "s_helix": ("helix", s)}, attrs={param: value})
+
+
+def test_richardson_recovers_order_and_limit_of_a_power_law():
+    h = np.array([1.0, 0.5, 0.25, 0.125])
+    f = 3.0 + 0.7 * h**2
+    p, lim, note = studies.richardson(h, f)
+    assert note == "" and p == pytest.approx(2.0, rel=1e-9) and lim == pytest.approx(3.0, rel=1e-12)
+
+
+def test_richardson_flags_non_monotone_and_non_geometric_ladders():
+    assert "monoton" in studies.richardson(np.array([1.0, 0.5, 0.25]), np.array([1.0, 1.1, 1.05]))[2]
+    assert "geometric" in studies.richardson(np.array([1.0, 0.5, 0.1]), np.array([1.0, 1.1, 1.15]))[2]
+    # noise below the resolved level counts as converged, not as non-monotone
+    p, lim, note = studies.richardson(np.array([1.0, 0.5, 0.25]), np.array([1.0, 1.0 + 1e-6, 1.0 - 1e-6]),
+                                      resolved=1e-5)
+    assert "converged" in note and lim == 1.0 - 1e-6
+
+
+def ladder(F_of_h, turns=(2.0, 2.0, 2.0), pub=1.0, tol=0.05):
+    hs = (1.0, 0.5, 0.25)
+    sims = {f"r{i}": fake_sim(h, F_of_h(h), turns=t) for i, (h, t) in enumerate(zip(hs, turns))}
+    cfg = {"parameter": "l0", "tolerance": tol}
+    return studies.convergence(cfg, sims, pub)
+
+
+def test_convergence_passes_and_fails_on_the_distance_from_the_limit():
+    ds = ladder(lambda h: 0.1 * (1 + 0.02 * h))  # publication rung (h = 1) is 2 % off
+    i = list(ds.observable.values).index("F_transmitted")
+    assert float(ds.F_transmitted_limit) == pytest.approx(0.1, rel=1e-9)
+    assert float(ds.observed_order[i]) == pytest.approx(1.0, rel=1e-6)
+    assert float(ds.publication_distance[i]) == pytest.approx(0.02, rel=1e-6)
+    assert ds.attrs["status"] == "pass"
+    assert "pass" in studies.check(ds, "conv")
+    bad = ladder(lambda h: 0.1 * (1 + 0.2 * h))  # 20 % off, tolerance 5 %
+    assert bad.attrs["status"] == "fail"
+    with pytest.raises(studies.ConvergenceError, match=r"l0 = 1 is F_transmitted 20 %"):
+        studies.check(bad, "conv")
+
+
+def test_different_states_make_the_check_inconclusive_and_say_why():
+    ds = ladder(lambda h: 0.1 * (1 + 0.02 * h), turns=(0.3, 2.0, 2.1))  # planar coarse rung, helical fine rungs
+    assert ds.attrs["status"].startswith("inconclusive") and "different states" in ds.attrs["status"]
+    assert "pitch" not in list(ds.observable.values)  # pitch is compared only between helices
+    with pytest.raises(studies.ConvergenceError, match="inconclusive"):
+        studies.check(ds, "conv", on_inconclusive="fail")
+    assert "inconclusive" in studies.check(ds, "conv", on_inconclusive="warn")
+    wound = ladder(lambda h: 0.1 * (1 + 0.02 * h), turns=(2.0, 2.0, 3.0))
+    assert "winding differs" in wound.attrs["status"]
+
+
+def test_bulk_pitch_of_a_helix():
+    sim = fake_sim(1.0, 0.1, turns=2.0)  # z = s/2 over 20 R and 2 turns: pitch 5 R
+    assert studies.bulk_pitch(sim) == pytest.approx(5.0, rel=1e-9)
+    assert studies.bulk_pitch(fake_sim(1.0, 0.1, turns=0.5)) == 0.0
