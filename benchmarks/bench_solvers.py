@@ -3,9 +3,14 @@ exponent; writes benchmarks/results/solvers.json.
 
 1. Equal-error comparison at L/R = 40 and 80 (load 0.25 EI/R^2, k_fr = 0.8,
    l0 = 0.5 R, k_ph = k_w = 1000), all in the same run:
-   * reference: the explicit scheme at tol = 1e-6 (forward Euler at 0.8 x its
-     stability limit follows the overdamped path to O(dt) ~ 1e-4 R per unit time
-     of relaxation; tol bounds the residual error of F_z by tol * load);
+   * reference: the implicit scheme at dx_max = 0.001 R and tol = 1e-6.  Both
+     schemes integrate the same overdamped equations and approach the same path
+     as dt, dx_max, tol -> 0; the implicit one gets closest to that limit at an
+     affordable cost (the explicit scheme at tol 1e-6 ran > 20 min at L = 40
+     without finishing).  The implicit solver's error is first order in dx_max,
+     so the reference sits ~dx_max/0.002 = 1/2 as far from the limit as the finest
+     rung of the ladder; the errors quoted are therefore upper bounds for the
+     finest implicit rungs;
    * explicit ladder: tol = 1e-3, 1e-4, 1e-5 (its only free accuracy knob; dt is
      pinned near the stability limit);
    * implicit ladder: dx_max = 0.05 ... 0.002 R at tol = 1e-6, median of
@@ -66,10 +71,11 @@ def run(L: float, solver: str, wall_cap: float = 0.0, **kw) -> dict:
 
 
 def compare(L: float, repeats: int) -> dict:
-    ref = run(L, "explicit", tol=1e-6)
+    ref = run(L, "implicit", tol=1e-6, dx_max=0.001)
     F_ref = ref["F_transmitted"]
     err = lambda r: abs(r["F_transmitted"] - F_ref) / F_ref  # noqa: E731
-    exp = [run(L, "explicit", tol=tol) for tol in (1e-3, 1e-4, 1e-5)]
+    exp = [run(L, "explicit", tol=tol, wall_cap=2400.0) for tol in (1e-3, 1e-4, 1e-5)]
+    exp = [r for r in exp if "F_transmitted" in r]
     imp = []
     for dx in (0.05, 0.02, 0.01, 0.005, 0.002):
         runs = [run(L, "implicit", tol=1e-6, dx_max=dx) for _ in range(repeats)]

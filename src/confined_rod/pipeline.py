@@ -29,7 +29,8 @@ from typing import Any
 from .scenes import Scene, SceneError
 from .studies import REFINEMENT
 
-FIGURE_KINDS = ("transmitted_force", "force_profile", "convergence", "time_vs_error")
+FIGURE_KINDS = ("transmitted_force", "force_profile", "convergence", "time_vs_error", "stability_map")
+SWEEP_ONLY = {"dt_factor": "explicit", "dx_max": "implicit"}  # step knobs that exist for one solver only
 RESULTS = Path("results")
 
 
@@ -96,9 +97,37 @@ def _key(params: dict[str, Any]) -> str:
     return repr(sorted(d.items()))
 
 
+def probe_path(figure: str, scene: str) -> str:
+    return str(RESULTS / "probes" / figure / f"{scene}.nc")
+
+
 def figure_sims(config: dict[str, Any], figure: str) -> list[str]:
-    """Scene dataset files of a figure, in its scene order (shared scenes point to one file)."""
+    """Scene dataset files of a figure, in its scene order (shared scenes point to one file;
+    the points of a stability map are probes, which record failures instead of raising)."""
+    if config["figures"][figure]["kind"] == "stability_map":
+        return [probe_path(figure, s) for s in scenes(config, figure)]
     return [sim_path(*canonical_scene(config, figure, s)) for s in scenes(config, figure)]
+
+
+def expand_sweeps(config: dict[str, Any]) -> None:
+    """Turn each stability map's ``sweeps`` into scenes, in place: for every solver a
+    base point ('<solver>-base', the figure's defaults) and one point per swept value
+    ('<solver>-<parameter>-<value>'); dt_factor is swept for the explicit and dx_max for
+    the implicit solver only."""
+    for f in figures(config):
+        fig = config["figures"][f]
+        if fig.get("kind") != "stability_map" or not fig.get("sweeps"):
+            continue
+        out = fig.setdefault("scenes", {}) or {}
+        for solver in fig.get("solvers", ["implicit", "explicit"]):
+            out.setdefault(f"{solver}-base", {"solver": solver})
+            for param, values in fig["sweeps"].items():
+                if SWEEP_ONLY.get(param, solver) != solver:
+                    continue
+                for v in values:
+                    tag = f"{v:g}".replace(".", "p").replace("-", "m").replace("+", "")
+                    out.setdefault(f"{solver}-{param}-{tag}", {"solver": solver, param: v})
+        fig["scenes"] = out
 
 
 def check_path(figure: str) -> str:
@@ -143,6 +172,11 @@ def validate(config: dict[str, Any]) -> None:
         names = scenes(config, f)
         if not names:
             raise ConfigError(f"figures.{f}.scenes: a figure needs at least one scene")
+        if kind == "stability_map":  # its points may be invalid on purpose: the probes record that
+            for p in fig.get("sweeps", {}):
+                if p not in Scene.__dataclass_fields__:
+                    raise ConfigError(f"figures.{f}.sweeps: {p!r} is not a Scene field")
+            continue
         built = {s: build_scene(config, f, s) for s in names}
         if kind == "transmitted_force":
             _same_except(f, built, ("L", "pore_length"), "a transmitted-force figure varies only L")
@@ -193,13 +227,21 @@ def _same_except(figure: str, built: dict[str, Scene], varied: tuple[str, ...], 
 def caption(config: dict[str, Any], figure: str) -> str:
     """Plain-text caption: what the figure shows and with which parameters."""
     fig = config["figures"][figure]
+    head = f"{fig.get('title', figure)} (paper Fig. {fig.get('paper_figure', '?')})."
+    if fig["kind"] == "stability_map":
+        d = fig.get("defaults") or {}
+        return (head + " How every point of a one-at-a-time sweep about "
+                + ", ".join(f"{k} = {v}" for k, v in d.items())
+                + " ended, for the solvers " + ", ".join(fig.get("solvers", [])) + ": equilibrium, time cap, "
+                "escape, divergence (message in the dataset) or invalid input. Sweeps: "
+                + "; ".join(f"{k}: {', '.join(f'{x:g}' for x in v)}" for k, v in fig.get("sweeps", {}).items())
+                + ". Parameters: see the dataset.")
     built = [build_scene(config, figure, s) for s in scenes(config, figure)]
     sc = built[0]
     common = (f"R = {sc.R:g}, EI = {sc.EI:g}, load |F_z(0)| = {sc.load:g} EI/R^2, "
               f"friction cap {sc.friction_cap:g} EI/R^3, protocol '{sc.protocol}', seed {sc.seed}, "
               f"perturbation {sc.perturbation:g} R; numerics: l0 = {sc.l0:g} R, k_ph = {sc.k_ph:g} EI/R^2, "
               f"k_w = {sc.k_w:g} EI/R^3, solver '{sc.solver}', tol = {sc.tol:g}")
-    head = f"{fig.get('title', figure)} (paper Fig. {fig.get('paper_figure', '?')})."
     if fig["kind"] == "convergence":
         p = fig["parameter"]
         vals = ", ".join(f"{getattr(s, p):g}" for s in built)

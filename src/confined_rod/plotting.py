@@ -42,7 +42,7 @@ PAPER = dict(color="0.45", ls=":", lw=1.2)
 def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:
     kind = ds.attrs["kind"]
     fn = {"transmitted_force": transmitted_force, "force_profile": force_profile,
-          "convergence": convergence, "time_vs_error": time_vs_error}.get(kind)
+          "convergence": convergence, "time_vs_error": time_vs_error, "stability_map": stability_map}.get(kind)
     if fn is None:
         raise ValueError(f"no plot for figure kind {kind!r}")
     check_finite(ds, "plot")
@@ -226,4 +226,52 @@ def time_vs_error(ds: xr.Dataset):
              "Point labels: $dx_{max}$ [R] (implicit), tol (explicit). Wall time of one simulate job.",
              ha="left", va="top", fontsize=7)
     ax.legend(loc="best")
+    return fig
+
+
+STATUS_COLOURS = {"converged": "#4daf4a", "not_converged": "#ffd92f", "escaped": "#80b1d3",
+                  "diverged": "#e41a1c", "invalid": "0.75"}
+
+
+def stability_map(ds: xr.Dataset):
+    """One panel per solver: a row per swept parameter, a cell per value, coloured by how
+    the run ended; the cell text is the value (and |F_z(L)| where the run gave one)."""
+    from matplotlib.patches import Patch, Rectangle
+
+    meanings = ds["status"].attrs["flag_meanings"].split()
+    solvers = [s for s in ("implicit", "explicit") if s in set(ds["solver"].values)]
+    params = list(dict.fromkeys(ds["parameter"].values))
+    ncol = max(int(np.sum((ds["solver"].values == sv) & (ds["parameter"].values == p)))
+               for sv in solvers for p in params)
+    fig, axes = plt.subplots(len(solvers), 1, figsize=(1.25 * ncol + 1.6, 0.42 * len(params) * len(solvers) + 1.6),
+                             squeeze=False, label=ds.attrs["title"])
+    row_label = {"base": "defaults", "dx_max": r"$dx_{max}$ [$R$]", "dt_factor": r"$\Delta t/\Delta t_{stab}$"}
+    for ax, sv in zip(axes[:, 0], solvers):
+        params = [p for p in dict.fromkeys(ds["parameter"].values)
+                  if np.any((ds["solver"].values == sv) & (ds["parameter"].values == p))]
+        for row, p in enumerate(params):
+            m = np.flatnonzero((ds["solver"].values == sv) & (ds["parameter"].values == p))
+            m = m[np.argsort(ds["value"].values[m])]
+            for col, i in enumerate(m):
+                st = meanings[int(ds["status"].values[i])]
+                ax.add_patch(Rectangle((col, row), 0.95, 0.9, color=STATUS_COLOURS[st]))
+                txt = "defaults" if p == "base" else f"{float(ds['value'].values[i]):g}"
+                if int(ds["has_force"].values[i]):
+                    txt += f"\n{float(ds['F_transmitted'].values[i]):.3g}"
+                ax.text(col + 0.475, row + 0.45, txt, ha="center", va="center", fontsize=6.5)
+        ax.set_xlim(0, ncol)
+        ax.set_ylim(len(params), 0)
+        ax.set_yticks(np.arange(len(params)) + 0.45)
+        ax.set_yticklabels([row_label.get(p) or label(p) for p in params])
+        ax.set_xticks([])
+        ax.tick_params(axis="y", length=0, right=False)
+        for side in ("top", "right", "bottom", "left"):
+            ax.spines[side].set_visible(False)
+        ax.set_title(f"{sv} solver (cell: value of the swept parameter; below it $|F_z(L)|$ [$EI/R^2$])",
+                     fontsize=8, loc="left")
+    handles = [Patch(color=STATUS_COLOURS[k], label=k.replace("_", " ")) for k in meanings]
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), bbox_to_anchor=(0.5, -0.01))
+    base = ", ".join(f"{k} = {ds.attrs[k]}" for k in ("L", "load", "k_fr", "l0", "t_max") if k in ds.attrs)
+    fig.suptitle(f"stability stress map, one parameter at a time about {base}", fontsize=9)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     return fig

@@ -13,7 +13,7 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from . import studies, theory
+from . import stability, studies, theory
 from .fits import PARAMS, FitError, fit_power_law
 from .io import finalize, variable
 from .quantities import attrs, error_attrs
@@ -24,7 +24,8 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
     kind = fig_cfg["kind"]
     builders = {"transmitted_force": transmitted_force, "force_profile": force_profile,
                 "time_vs_error": studies.time_vs_error,
-                "convergence": lambda c, s: studies.convergence(c, s, publication_value)}
+                "convergence": lambda c, s: studies.convergence(c, s, publication_value),
+                "stability_map": stability.stability_map}
     builder = builders.get(kind)
     if builder is None:
         raise ValueError(f"figures.{figure}.kind: unknown figure kind {kind!r}")
@@ -33,9 +34,13 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
             "figure_title": fig_cfg.get("title", figure), "scenes": list(sims),
             "scene_git_commits": sorted({str(d.attrs.get("git_commit", "unknown")) for d in sims.values()})}
     first = next(iter(sims.values()))
-    for key in ("R", "EI", "load", "k_fr", "l0", "k_ph", "k_w", "friction_cap", "protocol", "seed", "solver", "tol",
-                "L"):
-        meta.setdefault(key, first.attrs[key])
+    if kind == "stability_map":  # the probes vary everything; the figure's defaults are the base point
+        meta.update(fig_cfg.get("defaults") or {})
+        meta["solvers"] = list(fig_cfg.get("solvers", []))
+    else:
+        for key in ("R", "EI", "load", "k_fr", "l0", "k_ph", "k_w", "friction_cap", "protocol", "seed", "solver",
+                    "tol", "L"):
+            meta.setdefault(key, first.attrs[key])
     if kind == "transmitted_force":
         meta.pop("L")
     if kind == "convergence":

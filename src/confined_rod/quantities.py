@@ -57,6 +57,7 @@ _Q = [
     Quantity("residual_torque", r"\epsilon_M", "final normalised torque residual max|M_i| L/(l0 load R)", "1"),
     Quantity("t_final", "t_{end}", "simulated time at the end of the run", "beta_ph R4 EI-1"),
     Quantity("n_steps", "", "number of time steps taken", "1"),
+    Quantity("has_force", "", "1 if the run produced a transmitted force (F_transmitted is 0 otherwise)", "1"),
     Quantity("wall_time", "t_{wall}", "wall-clock time of the run", "s"),
     # derived (per-figure datasets)
     Quantity("F_abs", "|F_z|", "magnitude of the axial (compressive) force", "EI R-2"),

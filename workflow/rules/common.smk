@@ -3,6 +3,7 @@ from pathlib import Path
 
 from confined_rod import pipeline
 
+pipeline.expand_sweeps(config)  # stability maps: sweep points -> scenes
 try:
     pipeline.validate(config)
 except pipeline.ConfigError as e:
