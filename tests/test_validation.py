@@ -20,7 +20,7 @@ BAD = [
     ({"seed": 1.5}, "'seed'", "1.5"),
     ({"protocol": "twisted"}, "'protocol'", "'twisted'"),
     ({"ends": "clamped"}, "'ends'", "'clamped'"),
-    ({"dt_factor": 2.0}, "'dt_factor'", "2.0"),
+    ({"dt_factor": 20.0}, "'dt_factor'", "20.0"),
     ({"body_force": [1.0, 2.0]}, "'body_force'", "[1.0, 2.0]"),
     ({"pore_length": 0.5, "L": 10.0}, "'pore_length'", "0.5"),
     ({"perturbation": 2.0}, "'perturbation'", "2.0"),

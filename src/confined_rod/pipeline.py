@@ -170,13 +170,15 @@ def validate(config: dict[str, Any]) -> None:
         if kind not in FIGURE_KINDS:
             raise ConfigError(f"figures.{f}.kind: {kind!r} is not one of {', '.join(FIGURE_KINDS)}")
         names = scenes(config, f)
-        if not names:
-            raise ConfigError(f"figures.{f}.scenes: a figure needs at least one scene")
         if kind == "stability_map":  # its points may be invalid on purpose: the probes record that
+            if not names and not fig.get("sweeps"):
+                raise ConfigError(f"figures.{f}: a stability map needs sweeps (or scenes)")
             for p in fig.get("sweeps", {}):
                 if p not in Scene.__dataclass_fields__:
                     raise ConfigError(f"figures.{f}.sweeps: {p!r} is not a Scene field")
             continue
+        if not names:
+            raise ConfigError(f"figures.{f}.scenes: a figure needs at least one scene")
         built = {s: build_scene(config, f, s) for s in names}
         if kind == "transmitted_force":
             _same_except(f, built, ("L", "pore_length"), "a transmitted-force figure varies only L")

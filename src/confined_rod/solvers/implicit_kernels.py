@@ -156,12 +156,19 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
             smooth_gradient(rp, tp, nu, rn, tn, frame, e1, e2, cr, ct, par, Fm, Fp, F, M, Nw, gp)
             for j in range(colour, n, 3):
                 col = NDOF * j + d
+                # the step actually taken: r + h is rounded to the spacing of r (up to
+                # L eps along the axis), a relative error eps L/h in the step that would
+                # put noise k eps L/h into the stiff bond entries; rp - r is exact
+                hj = h[d]
+                if d < 3:
+                    hj = ((rp[j, 0] - r[j, 0]) * frame[j, d, 0] + (rp[j, 1] - r[j, 1]) * frame[j, d, 1]
+                          + (rp[j, 2] - r[j, 2]) * frame[j, d, 2])
                 lo = j - 1 if j > 0 else 0
                 hi = j + 1 if j < n - 1 else n - 1
                 for li in range(lo, hi + 1):
                     for dd in range(NDOF):
                         row = NDOF * li + dd
-                        v = (gp[li, dd] - g0[li, dd]) / h[d]
+                        v = (gp[li, dd] - g0[li, dd]) / hj
                         if row == col:
                             ab[0, col] += v
                         elif row > col:
