@@ -62,3 +62,19 @@ def test_an_impossible_state_stops_with_a_message():
     sc = Scene(L=10.0, load=5.0, k_fr=0.0, l0=1.0, k_ph=0.5, tol=1e-4, t_max=1e4)
     with pytest.raises(DivergenceError, match="scene"):
         simulate(sc, progress=False)
+
+
+def test_a_frictionless_scene_does_no_friction_work(monkeypatch):
+    """k_fr = 0: neither the implicit friction envelope nor the Coulomb law is ever
+    evaluated (both are replaced by functions that fail if called)."""
+    from confined_rod.model import forces
+    from confined_rod.solvers import implicit
+
+    def boom(*a, **k):
+        raise AssertionError("friction evaluated in a frictionless scene")
+
+    monkeypatch.setattr(implicit.IK, "friction_term", boom)
+    monkeypatch.setattr(forces.K, "coulomb_friction", boom)
+    for solver in ("implicit", "explicit"):
+        ds = simulate(Scene(L=6.0, load=0.5, k_fr=0.0, l0=1.0, tol=1e-4, solver=solver), progress=False)
+        assert ds.converged and float(abs(ds.friction_force).max()) == 0.0
