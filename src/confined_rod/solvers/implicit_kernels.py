@@ -178,6 +178,17 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
 
 
 @njit(cache=True)
+def tangential_offset(r, anchor, frame, i):
+    """Offset of link i's centre from its stick anchor along the azimuthal and
+    axial directions of its step frame."""
+    dx = r[i, 0] - anchor[i, 0]
+    dy = r[i, 1] - anchor[i, 1]
+    dz = r[i, 2] - anchor[i, 2]
+    return (frame[i, 1, 0] * dx + frame[i, 1, 1] * dy + frame[i, 1, 2] * dz,
+            frame[i, 2, 0] * dx + frame[i, 2, 1] * dy + frame[i, 2, 2] * dz)
+
+
+@njit(cache=True)
 def friction_term(r, anchor, frame, fmax, kt, g, ab, hessian):
     """Coulomb friction of the links on the wall (fmax > 0) as the convex
     potential H(d) of the tangential offset d of the link centre from its stick
@@ -194,11 +205,7 @@ def friction_term(r, anchor, frame, fmax, kt, g, ab, hessian):
     for i in range(r.shape[0]):
         if fmax[i] <= 0.0:
             continue
-        dx = r[i, 0] - anchor[i, 0]
-        dy = r[i, 1] - anchor[i, 1]
-        dz = r[i, 2] - anchor[i, 2]
-        d1 = frame[i, 1, 0] * dx + frame[i, 1, 1] * dy + frame[i, 1, 2] * dz
-        d2 = frame[i, 2, 0] * dx + frame[i, 2, 1] * dy + frame[i, 2, 2] * dz
+        d1, d2 = tangential_offset(r, anchor, frame, i)
         nd = np.sqrt(d1 * d1 + d2 * d2)
         j = NDOF * i + 1
         if kt * nd <= fmax[i]:
@@ -232,11 +239,7 @@ def update_anchors(r, anchor, frame, fmax, kt):
             anchor[i, 1] = r[i, 1]
             anchor[i, 2] = r[i, 2]
             continue
-        dx = r[i, 0] - anchor[i, 0]
-        dy = r[i, 1] - anchor[i, 1]
-        dz = r[i, 2] - anchor[i, 2]
-        d1 = frame[i, 1, 0] * dx + frame[i, 1, 1] * dy + frame[i, 1, 2] * dz
-        d2 = frame[i, 2, 0] * dx + frame[i, 2, 1] * dy + frame[i, 2, 2] * dz
+        d1, d2 = tangential_offset(r, anchor, frame, i)
         nd = np.sqrt(d1 * d1 + d2 * d2)
         lim = fmax[i] / kt
         if nd > lim:
