@@ -70,6 +70,12 @@ def _plain_log_ticks(axis) -> None:
     """Log axis with ticks written as plain numbers (0.05, 20, ...): at 1, 2, 5 x 10^n,
     or at 1, 2, 3, 5 x 10^n when the axis spans less than a decade."""
     lo, hi = axis.get_view_interval()
+    if hi / lo > 300:  # several decades: label the decades only, as powers of ten
+        axis.set_major_locator(ticker.LogLocator(base=10))
+        axis.set_major_formatter(ticker.LogFormatterSciNotation())
+        axis.set_minor_locator(ticker.LogLocator(base=10, subs=np.arange(2, 10) * 1.0))
+        axis.set_minor_formatter(ticker.NullFormatter())
+        return
     subs = (1.0, 2.0, 5.0) if hi / lo > 10 else (1.0, 2.0, 3.0, 5.0)
     axis.set_major_locator(ticker.LogLocator(base=10, subs=subs))
     axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
