@@ -17,7 +17,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from .io import check_finite  # noqa: E402
-from .quantities import label  # noqa: E402
+from .quantities import QUANTITIES, label  # noqa: E402
 
 STYLE = {
     "font.family": "serif",
@@ -251,7 +251,8 @@ def stability_map(ds: xr.Dataset):
                for sv in solvers for p in params)
     fig, axes = plt.subplots(len(solvers), 1, figsize=(1.25 * ncol + 1.6, 0.42 * len(params) * len(solvers) + 1.6),
                              squeeze=False, label=ds.attrs["title"])
-    row_label = {"base": "defaults", "dx_max": r"$dx_{max}$ [$R$]", "dt_factor": r"$\Delta t/\Delta t_{stab}$"}
+    row_label = {"base": "defaults", "dx_max": r"$dx_{max}$ [$R$]", "dt_factor": r"$\Delta t/\Delta t_{stab}$",
+                 "tol": r"tol ($\epsilon_F$, $\epsilon_M$)"}
     for ax, sv in zip(axes[:, 0], solvers):
         params = [p for p in dict.fromkeys(ds["parameter"].values)
                   if np.any((ds["solver"].values == sv) & (ds["parameter"].values == p))]
@@ -268,7 +269,7 @@ def stability_map(ds: xr.Dataset):
         ax.set_xlim(0, ncol)
         ax.set_ylim(len(params), 0)
         ax.set_yticks(np.arange(len(params)) + 0.45)
-        ax.set_yticklabels([row_label.get(p) or label(p) for p in params])
+        ax.set_yticklabels([row_label.get(p) or (label(p) if p in QUANTITIES else p) for p in params])
         ax.set_xticks([])
         ax.tick_params(axis="y", length=0, right=False)
         for side in ("top", "right", "bottom", "left"):
