@@ -14,8 +14,9 @@ anchor does not move while |F_t| < f_max); they sit within f_max/k_t (< 1e-4 R
 at the defaults) of their anchor, where the explicit scheme holds them rigidly.
 The equilibrium conditions (|F_t| <= f_max on stuck links) are the same.
 
-Step-size control: a step is accepted only if Newton converged, the Hessian was
-positive definite and no link end moved more than ``2 dx_max``; the next step is
+Step-size control: a step is accepted only if Newton converged (an indefinite
+Hessian is shifted, Levenberg-Marquardt, until it factorises) and no link end
+moved more than ``2 dx_max``; the next step is
 scaled by 0.9 dx_max / (largest displacement), at most doubled.  A failed step
 is retried with dt/4.  dx_max is the accuracy knob: it bounds how far the path
 may be cut short between two evaluations of the normal forces and the contact
