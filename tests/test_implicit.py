@@ -78,3 +78,42 @@ def test_a_frictionless_scene_does_no_friction_work(monkeypatch):
     for solver in ("implicit", "explicit"):
         ds = simulate(Scene(L=6.0, load=0.5, k_fr=0.0, l0=1.0, tol=1e-4, solver=solver), progress=False)
         assert ds.converged and float(abs(ds.friction_force).max()) == 0.0
+
+
+@pytest.mark.parametrize("floor", [False, True])
+def test_exact_contact_hessian_matches_finite_differences(rng, floor):
+    """The Newton Hessian = finite differences of the smooth terms + the exact
+    Hessian of the one-sided contacts.  Away from the switch-on of a contact both
+    are smooth, so the split must equal finite differences of everything.  Entries
+    are up to k_w = 1e3 (the bonds 2e3); one-sided differences with a 1e-7 step
+    err by ~ k_w h / R ~ 1e-4 plus round-off k L eps / h ~ 1e-5, so 1e-3 is a
+    relative 1e-6 of the largest entries, while a wrong contact term errs by O(k_w)."""
+    from confined_rod.solvers import implicit_kernels as IK
+    from confined_rod.solvers.base import RunState
+    from confined_rod.solvers.implicit import ImplicitStepper
+
+    from .conftest import random_state
+
+    scene = Scene(L=12.0, load=0.25, k_fr=0.8, lower_end="free" if floor else "held", floor=floor)
+    r, t = random_state(scene, rng)
+    if floor:
+        r[:, 2] -= 0.3  # some link ends below the piston
+    stepper = ImplicitStepper(scene, dt=10.0)
+    stepper._start_step(RunState(r=r, t=t), 10.0)
+    S = stepper
+    IK.tangent_bases(t, S.e1, S.e2)
+    S.fd_step[:] = 1e-7
+    ws = S.ws
+    hessians = []
+    for par in (S.par, S.par_fd):
+        g0 = np.zeros_like(S.g0)
+        IK.smooth_gradient(r, t, S.nu1, S.rn, S.tn, S.frame, S.e1, S.e2, S.cr, S.ct, par, ws.Fm, ws.Fp, ws.F, ws.M,
+                           ws.Nw, g0)
+        IK.fd_hessian(r, t, S.rn, S.tn, S.frame, S.e1, S.e2, S.cr, S.ct, par, S.fd_step, g0, ws.Fm, ws.Fp, ws.F,
+                      ws.M, ws.Nw, S.rp, S.tp, S.nu, S.gp, S.ab)
+        hessians.append(S.ab.copy())
+    full, split = hessians
+    contact = full - split
+    assert np.abs(contact).max() > 100.0  # the contacts are there and matter
+    IK.contact_hessian(r, t, S.frame, S.e1, S.e2, S.par, split)
+    assert np.abs(split - full).max() < 1e-3

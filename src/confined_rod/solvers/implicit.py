@@ -56,6 +56,10 @@ class ImplicitStepper:
     def __init__(self, scene: Scene, dt: float | None = None):
         self.scene = scene
         self.par = scene.params()
+        # the finite-difference Hessian leaves out the one-sided contact penalties
+        # (added exactly by contact_hessian)
+        self.par_fd = self.par.copy()
+        self.par_fd[K.K_WALL] = 0.0
         c = scene.constants()
         self.beta, self.gamma_r = c.beta, c.gamma_r
         n = self.n = scene.N
@@ -76,7 +80,7 @@ class ImplicitStepper:
         z3 = lambda: np.zeros((n, 3))  # noqa: E731
         self.rn, self.tn, self.e1, self.e2, self.rp, self.tp, self.r2, self.t2 = (z3() for _ in range(8))
         self.frame = np.zeros((n, 3, 3))
-        self.g, self.g0, self.gp = (np.zeros((n, IK.NDOF)) for _ in range(3))
+        self.g, self.g0, self.g_fd, self.gp = (np.zeros((n, IK.NDOF)) for _ in range(4))
         self.ab = np.zeros((IK.BAND + 1, IK.NDOF * n))
         self.nu, self.nu1 = np.ones(n), np.ones(n)
         self.fmax = np.zeros(n)
@@ -127,11 +131,14 @@ class ImplicitStepper:
         for it in range(MAX_NEWTON):
             st.count("newton_iterations")
             IK.tangent_bases(t, self.e1, self.e2)
-            phi = self._smooth(r, t, self.nu1, self.g0)
             ws = self.ws
-            IK.fd_hessian(r, t, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct, self.par,
-                          self.fd_step, self.g0, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.rp, self.tp, self.nu, self.gp,
+            IK.smooth_gradient(r, t, self.nu1, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct,
+                               self.par_fd, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.g_fd)
+            IK.fd_hessian(r, t, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct, self.par_fd,
+                          self.fd_step, self.g_fd, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.rp, self.tp, self.nu, self.gp,
                           ab)
+            IK.contact_hessian(r, t, self.frame, self.e1, self.e2, self.par, ab)
+            phi = self._smooth(r, t, self.nu1, self.g0)
             g[:] = self.g0
             if self.use_friction:
                 phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, ab, True)

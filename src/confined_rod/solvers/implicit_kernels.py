@@ -178,6 +178,75 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
 
 
 @njit(cache=True)
+def _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab):
+    """Add the Hessian of an end-point energy with point Hessian hp (3x3) and
+    point gradient gp to link i's diagonal block (end point r_i + s h t_i):
+    J^T hp J with J = [frame_0, frame_1, frame_2, s h e1, s h e2], plus the
+    curvature of the tangent's rotation, d^2 p/da^2 = d^2 p/db^2 = -s h t."""
+    J = np.empty((NDOF, 3))
+    for k in range(3):
+        for c in range(3):
+            J[k, c] = frame[i, k, c]
+    for c in range(3):
+        J[3, c] = s * h * e1[i, c]
+        J[4, c] = s * h * e2[i, c]
+    for a in range(NDOF):
+        for b in range(a, NDOF):
+            v = 0.0
+            for c in range(3):
+                for d in range(3):
+                    v += J[a, c] * hp[c, d] * J[b, d]
+            ab[b - a, q + a] += v
+    curv = -s * h * (gp[0] * t[i, 0] + gp[1] * t[i, 1] + gp[2] * t[i, 2])
+    ab[0, q + 3] += curv
+    ab[0, q + 4] += curv
+
+
+@njit(cache=True)
+def contact_hessian(r, t, frame, e1, e2, par, ab):
+    """Exact Hessian of the one-sided contact penalties (wall (k_w/2)(rho - R)^2,
+    floor (k_w/2) z^2) in the step coordinates, added to ab.
+
+    These penalties switch on where an end touches (their curvature jumps from
+    0 to k_w), and a grazing contact sits within ~1e-8 R of that switch; a
+    finite-difference step of the same size would straddle it and average the
+    two sides.  So fd_hessian leaves them out (k_w = 0) and they are added here
+    on the side the end is on.  Point Hessian of the wall term, for overlap
+    d = rho - R > 0 and radial unit vector n: k_w [n n^T + (d/rho)(P_xy - n n^T)]."""
+    h = par[K.HALF]
+    kw = par[K.K_WALL]
+    hp = np.zeros((3, 3))
+    gp = np.zeros(3)
+    n = r.shape[0]
+    for i in range(n):
+        q = NDOF * i
+        for s in (-1.0, 1.0):
+            px = r[i, 0] + s * h * t[i, 0]
+            py = r[i, 1] + s * h * t[i, 1]
+            pz = r[i, 2] + s * h * t[i, 2]
+            d, nx, ny = K._wall_point(px, py, pz, par)
+            if d > 0.0:
+                rho = np.sqrt(px * px + py * py)
+                c = d / rho
+                hp[0, 0] = kw * (nx * nx + c * (1.0 - nx * nx))
+                hp[1, 1] = kw * (ny * ny + c * (1.0 - ny * ny))
+                hp[0, 1] = kw * (1.0 - c) * nx * ny
+                hp[1, 0] = hp[0, 1]
+                hp[0, 2] = hp[1, 2] = hp[2, 0] = hp[2, 1] = hp[2, 2] = 0.0
+                gp[0] = kw * d * nx
+                gp[1] = kw * d * ny
+                gp[2] = 0.0
+                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab)
+            if par[K.FLOOR] > 0.5 and pz < 0.0 and not (i == 0 and s < 0.0):
+                hp[:, :] = 0.0
+                hp[2, 2] = kw
+                gp[0] = 0.0
+                gp[1] = 0.0
+                gp[2] = kw * pz
+                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab)
+
+
+@njit(cache=True)
 def tangential_offset(r, anchor, frame, i):
     """Offset of link i's centre from its stick anchor along the azimuthal and
     axial directions of its step frame."""
