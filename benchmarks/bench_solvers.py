@@ -22,6 +22,8 @@ exponent; writes benchmarks/results/solvers.json.
    0.02 R, tol 1e-5): median wall time to equilibrium, and the exponent of wall
    time against the number of links N = L/l0 (least-squares slope of log time
    against log N).  ``--wall-cap`` seconds stop a run (reported, not hidden).
+   The issue's targets (L/R = 320 within 60 s, 640 within 180 s) are checked
+   against the medians and written under "targets".
 
 Usage: python benchmarks/bench_solvers.py [--lengths ...] [--compare 40 80]
 One core: NUMBA_NUM_THREADS=1 (the kernels are serial), and scipy's banded solve
@@ -113,8 +115,7 @@ def main() -> None:
             print(json.dumps({k: r.get(k) for k in ("L", "solver", "tol", "dx_max", "wall_s", "error",
                                                     "speedup_at_equal_error")}), flush=True)
     for L in args.lengths:
-        reps = 1 if L >= 320 else args.repeats
-        runs = [run(L, "implicit", wall_cap=args.wall_cap) for _ in range(reps)]
+        runs = [run(L, "implicit", wall_cap=args.wall_cap) for _ in range(args.repeats)]
         row = {"L": L, "N": runs[0]["N"], "median_s": statistics.median(r["wall_s"] for r in runs), "runs": runs}
         out["implicit"].append(row)
         path.write_text(json.dumps(out, indent=1))
@@ -127,7 +128,15 @@ def main() -> None:
         big = N >= 160
         if big.sum() >= 2:
             out["cost_exponent_N_ge_160"] = float(np.polyfit(np.log(N[big]), np.log(T[big]), 1)[0])
+    # the targets: equilibrium at L/R = 320 within 60 s and at 640 within 180 s
+    out["targets"] = []
+    for L, cap in ((320.0, 60.0), (640.0, 180.0)):
+        row = next((r for r in out["implicit"] if r["L"] == L), None)
+        if row is not None:
+            met = all(x["converged"] for x in row["runs"]) and row["median_s"] <= cap
+            out["targets"].append({"L": L, "target_s": cap, "median_s": row["median_s"], "met": met})
     path.write_text(json.dumps(out, indent=1))
+    print("targets", out["targets"])
     print("cost exponent", out.get("cost_exponent"), out.get("cost_exponent_N_ge_160"))
 
 

@@ -75,3 +75,19 @@ def test_progress_is_reported_on_stderr(monkeypatch, capsys):
     assert "[chatty] t = " in err and "eps_F" in err
     simulate(Scene(L=6.0, load=0.5, t_max=20.0, name="quiet"), progress=False)
     assert capsys.readouterr().err == ""
+
+
+def test_the_equilibrium_tolerance_is_lifted_only_to_the_round_off_floor():
+    """The floor 2 x 4 eps (k L + k_w R + load) / (l0 load / L) grows as L^2 k_ph / l0^2:
+    far below tol for the rods of the tests, 1.2e-4 > tol = 1e-5 at the publication's
+    L/R = 640 (k_ph = 1e4, l0 = 0.5 R)."""
+    from confined_rod.solvers.base import equilibrium_tol
+
+    assert equilibrium_tol(Scene(L=20, load=0.25, l0=0.5, tol=1e-5)) == 1e-5
+    long = Scene(L=640, load=0.25, l0=0.5, k_ph=1e4, tol=1e-5)
+    eps = np.finfo(float).eps
+    expected = 2 * 4 * eps * (1e4 / 0.5 * 640 + long.k_w + 0.25) * 640 / (0.5 * 0.25)
+    assert equilibrium_tol(long) == pytest.approx(expected, rel=1e-12)
+    assert 1e-4 < equilibrium_tol(long) < 1.5e-4
+    half = Scene(L=320, load=0.25, l0=0.5, k_ph=1e4, tol=1e-9)
+    assert equilibrium_tol(half) == pytest.approx(equilibrium_tol(long) / 4, rel=0.01)

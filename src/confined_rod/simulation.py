@@ -10,6 +10,7 @@ from . import observables as obs
 from .io import finalize, variable
 from .scenes import Scene
 from .solvers import SOLVERS
+from .solvers.base import equilibrium_tol
 
 
 def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
@@ -67,6 +68,7 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     params = dict(scene.to_dict())
     params.update({"N": c.N, "C": c.C, "k": c.k, "k_support": c.k_support, "beta": c.beta,
                    "gamma_r": c.gamma_r, "dt": scene.dt(), "dt_stable_estimate": c.dt_stable,
+                   "tol_effective": equilibrium_tol(scene),
                    "stage_converged": [int(v) for v in st.stage_converged]})
     title = (f"Confined elastic rod '{scene.name}': L/R = {scene.L / scene.R:g}, "
              f"load = {scene.load * scene.R**2 / scene.EI:g} EI/R^2, k_fr = {scene.k_fr:g}")

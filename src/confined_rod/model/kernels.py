@@ -45,9 +45,12 @@ def bond_forces(r, t, par, Fm, Fp):
     k = par[K_BOND]
     e = 0.0
     for i in range(r.shape[0] - 1):
-        gx = (r[i + 1, 0] - h * t[i + 1, 0]) - (r[i, 0] + h * t[i, 0])
-        gy = (r[i + 1, 1] - h * t[i + 1, 1]) - (r[i, 1] + h * t[i, 1])
-        gz = (r[i + 1, 2] - h * t[i + 1, 2]) - (r[i, 2] + h * t[i, 2])
+        # centre difference first: it is exact (Sterbenz) or accurate to eps l0,
+        # where the end points r +- h t would each be rounded to eps |r| ~ eps L,
+        # and k times that error would be a force noise that grows with L
+        gx = (r[i + 1, 0] - r[i, 0]) - h * (t[i + 1, 0] + t[i, 0])
+        gy = (r[i + 1, 1] - r[i, 1]) - h * (t[i + 1, 1] + t[i, 1])
+        gz = (r[i + 1, 2] - r[i, 2]) - h * (t[i + 1, 2] + t[i, 2])
         Fp[i, 0] += k * gx
         Fp[i, 1] += k * gy
         Fp[i, 2] += k * gz

@@ -8,6 +8,8 @@ Stopping rules (the same for every solver, so "converged" means the same thing):
   link has zero tangential residual).  eps = 1 means a force density equal to the
   load spread evenly over the rod; tol bounds the error of the force profile
   F_z(s) by tol * load;
+  The round-off floor (:func:`equilibrium_tol`) can lift the tolerance above tol
+  for long, stiff rods; the value used is stored with the run;
 * time cap: reaching t_max ends the run with ``converged = False``;
 * escape: a link end above the open pore entrance and more than 0.1 R outside
   the pore's radius stops the run (``escaped = True``);
@@ -32,6 +34,7 @@ from ..model import kernels as K
 from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
 
+ROUNDOFF_FACTOR = 4.0  # see roundoff_force
 PROGRESS_AFTER_S = 3.0  # report progress on stderr once a run has taken this long ...
 PROGRESS_EVERY_S = 2.0  # ... and then this often
 
@@ -74,6 +77,26 @@ def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[fl
     return fmax / scale, mmax / (scale * scene.R)
 
 
+def roundoff_force(scene: Scene) -> float:
+    """Residual force per link below which float64 cannot resolve a balance.
+
+    Positions up to L are representable only to about eps L, and a bond turns a
+    position error into a force k = k_ph/l0 times it; the wall and the load add
+    eps k_w R and eps load.  Measured: the implicit Newton iteration stalls at
+    1.6 eps k L (L/R = 320, k_ph = 1e4, l0 = 0.5 R), hence ROUNDOFF_FACTOR = 4."""
+    c = scene.constants()
+    return ROUNDOFF_FACTOR * np.finfo(float).eps * (c.k * scene.L + scene.k_w * scene.R + scene.load)
+
+
+def equilibrium_tol(scene: Scene) -> float:
+    """Tolerance of the equilibrium test: scene.tol, or twice the round-off floor
+    in the same normalisation (eps_F = max|F_i| L/(l0 load)) where that is larger.
+    The floor grows as L^2 k_ph/l0^2: 1.2e-4 at L/R = 640, k_ph = 1e4, l0 = 0.5 R,
+    load 0.25, where tol = 1e-5 cannot be reached in float64."""
+    scale = scene.l0 * scene.load / scene.L
+    return max(scene.tol, 2.0 * roundoff_force(scene) / scale)
+
+
 def check_state(scene: Scene, r: np.ndarray, t: np.ndarray, step: int, time: float,
                 hint: str = "") -> None:
     """Raise DivergenceError on a diverged state."""
@@ -106,6 +129,11 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
     t0 = _time.perf_counter()
     last_report = t0
     st.converged = False
+    tol = equilibrium_tol(scene)
+    if progress and tol > scene.tol:
+        print(f"[{scene.name}{label}] tol = {scene.tol:.1e} is below the round-off floor of this scene "
+              f"(L = {scene.L:g}, k_ph = {scene.k_ph:g}, l0 = {scene.l0:g}); equilibrium is tested at {tol:.2e}",
+              file=sys.stderr, flush=True)
     while True:
         if snap_dt > 0 and st.time >= next_snap - 1e-12:
             st.take_snapshot()
@@ -120,11 +148,11 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
         if progress and now - t0 > PROGRESS_AFTER_S and now - last_report > PROGRESS_EVERY_S:
             last_report = now
             print(f"[{scene.name}{label}] t = {st.time:.4g} / {t_cap:.4g}, steps = {st.steps}, "
-                  f"eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} (tol {scene.tol:.1e}), "
+                  f"eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} (tol {tol:.1e}), "
                   f"{now - t0:.0f} s", file=sys.stderr, flush=True)
         if st.escaped:
             break
-        if st.eps_F < scene.tol and st.eps_M < scene.tol:
+        if st.eps_F < tol and st.eps_M < tol:
             st.converged = True
             break
         if st.time >= t_cap * (1 - 1e-12):

@@ -1,8 +1,9 @@
 """Implicit (backward Euler) integrator of the same overdamped dynamics.
 
 Each step minimises Phi = E + drag + friction (solvers.implicit_kernels) by
-Newton's method: a finite-difference block-tridiagonal Hessian, a banded
-Cholesky solve (LAPACK via scipy), and a line search on the slope of Phi.
+Newton's method: a block-tridiagonal Hessian (finite differences of the smooth
+forces, exact for the one-sided contacts and the friction), a banded Cholesky
+solve (LAPACK via scipy), and a line search on the slope of Phi.
 
 Coulomb friction.  The exact dissipation f_max |v| of a link on the wall is not
 differentiable where every slip starts (v = 0).  The solver uses its Moreau
@@ -33,7 +34,7 @@ from ..model import kernels as K
 from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
 from . import implicit_kernels as IK
-from .base import RunState, run_protocol
+from .base import RunState, roundoff_force, run_protocol
 from .base import relax as _relax
 
 FD_STEP = 1e-8  # finite-difference step of the Hessian (in R for the translations, rad for the rotations)
@@ -71,9 +72,7 @@ class ImplicitStepper:
         self.cap = scene.friction_cap * scene.l0
         self.h = 0.5 * scene.l0
         scale = scene.l0 * scene.load / scene.L
-        # round-off floor: forces are differences of k (gap) with positions up to L
-        floor = 16 * np.finfo(float).eps * (c.k * scene.L + scene.k_w * scene.R + scene.load)
-        self.gtol_F = max(NEWTON_TOL * scene.tol * scale, floor)
+        self.gtol_F = max(NEWTON_TOL * scene.tol * scale, roundoff_force(scene))
         self.gtol_M = self.gtol_F * scene.R
         self.step_hint = f"reduce dx_max (now {scene.dx_max})"
         self.ws = Workspace.for_links(n)

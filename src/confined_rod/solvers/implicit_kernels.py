@@ -18,9 +18,10 @@ Coordinates of the Newton iteration, 5 per link (array shapes (N, 5)):
        radial n_i, azimuthal e_phi,i, axial e_z (frame[i, k, :], (N, 3, 3))
   3-4  rotation of the tangent in its tangent plane: t = (t + a e1 + b e2)/|...|
        with e1, e2 an orthonormal basis perpendicular to the current t.
-Only the smooth part Phi_s = E + drag is differentiated numerically (by
-coloured finite differences of the kernel forces); the friction term is added
-analytically.
+The Hessian of the smooth part Phi_s = E + drag is built from coloured finite
+differences of the kernel forces, except for the one-sided contact penalties
+(wall, floor), whose curvature jumps where a contact switches on; they and the
+friction term are added exactly (contact_hessian, friction_term).
 """
 from __future__ import annotations
 
@@ -143,7 +144,8 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
     (half-bandwidth BAND).  The Hessian is block-tridiagonal (each link interacts
     with its neighbours only), so links three apart are perturbed together:
     3 colours x 5 coordinates = 15 gradient evaluations.  The result is
-    symmetrised, (H + H^T)/2."""
+    symmetrised, (H + H^T)/2.  The solver passes par with k_w = 0 (and g0 computed
+    with it): the contacts are added exactly by contact_hessian."""
     n = r.shape[0]
     ab[:, :] = 0.0
     p = np.zeros((n, NDOF))
