@@ -114,7 +114,9 @@ def transmitted_force(ds: xr.Dataset):
     ax.set_xlabel(label("L"))
     ax.set_ylabel(label("F_transmitted"))
     ax.set_title(_params_text(ds, ("load", "k_fr", "l0")), fontsize=9)
-    ax.legend(loc="best")
+    # lower left is empty (every curve falls with L); "best" put the legend's
+    # marker among the data, where it read as an extra point
+    ax.legend(loc="lower left", fontsize=7.5)
     return fig
 
 
