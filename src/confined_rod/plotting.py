@@ -219,9 +219,10 @@ def time_vs_error(ds: xr.Dataset):
         order = np.argsort(knob[m])
         ax.plot(err[m][order], wall[m][order], marker=marker[sv], ms=5, color=colours[j % len(colours)],
                 label=rf"{sv}, $l_0 = {lk:g}\,R$")
-        for e, w, kv in zip(err[m], wall[m], knob[m]):
-            ax.annotate(f"{kv:g}", (e, w), xytext=(3, 3), textcoords="offset points", fontsize=6.5,
-                        color=colours[j % len(colours)])
+        # neighbouring rungs can nearly coincide: labels alternate above and below
+        for n, (e, w, kv) in enumerate(zip(err[m][order], wall[m][order], knob[m][order])):
+            ax.annotate(f"{kv:g}", (e, w), xytext=(4, 3 if n % 2 == 0 else -9), textcoords="offset points",
+                        fontsize=6.5, color=colours[j % len(colours)])
     ax.set_xscale("log")
     ax.set_yscale("log")
     _plain_log_ticks(ax.yaxis)
