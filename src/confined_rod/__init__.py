@@ -6,11 +6,24 @@ wall and Coulomb wall friction relaxed by overdamped dynamics.
 
     from confined_rod import Scene, simulate
     ds = simulate(Scene(L=40, load=0.25, k_fr=0.8))
+
+``Scene`` and ``simulate`` are imported on first use, so that post-processing
+(``confined_rod.figures``, ``confined_rod.measure``) never loads the simulator.
 """
 __version__ = "0.1.0"
 
-from .errors import DivergenceError, SceneError  # noqa: E402
-from .scenes import Scene  # noqa: E402
-from .simulation import simulate  # noqa: E402
+from .errors import ConfigError, DivergenceError, SceneError  # noqa: E402
 
-__all__ = ["Scene", "simulate", "SceneError", "DivergenceError", "__version__"]
+__all__ = ["Scene", "simulate", "SceneError", "ConfigError", "DivergenceError", "__version__"]
+
+
+def __getattr__(name):
+    if name == "Scene":
+        from .scenes import Scene
+
+        return Scene
+    if name == "simulate":
+        from .simulation import simulate
+
+        return simulate
+    raise AttributeError(f"module 'confined_rod' has no attribute {name!r}")

@@ -23,7 +23,29 @@ def main(argv: list[str] | None = None) -> int:
     p_show = sub.add_parser("show-defaults", help="print every scene field with its resolved default")
     p_show.add_argument("--R", type=float, default=1.0)
     p_show.add_argument("--EI", type=float, default=1.0)
+    p_schema = sub.add_parser("schema", help="print (or write, or check) the pipeline config's JSON schema, "
+                                             "generated from the scene parameters and the figure kinds")
+    p_schema.add_argument("-o", "--output", type=Path, help="write it to this file")
+    p_schema.add_argument("--check", type=Path, metavar="FILE", help="exit 1 if FILE differs from it")
     args = parser.parse_args(argv)
+
+    if args.command == "schema":
+        from .config_schema import render
+
+        text = render()
+        if args.check:
+            if not args.check.is_file() or args.check.read_text() != text:
+                print(f"error: {args.check} is not the generated schema; regenerate it with "
+                      f"python -m confined_rod schema -o {args.check}", file=sys.stderr)
+                return 1
+            return 0
+        if args.output:
+            from .io import write_text
+
+            write_text(text, args.output)
+        else:
+            print(text, end="")
+        return 0
 
     from .scenes import Scene
 

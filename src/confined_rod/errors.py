@@ -1,7 +1,13 @@
-"""Exceptions raised by confined_rod."""
+"""Exceptions raised by confined_rod (no imports of the simulator: post-processing uses them too)."""
 from __future__ import annotations
 
-from .scenes import SceneError
+
+class SceneError(ValueError):
+    """Invalid scene input. The message names the key and the offending value."""
+
+
+class ConfigError(ValueError):
+    """Invalid pipeline configuration; the message names the config path and the value."""
 
 
 class DivergenceError(RuntimeError):
@@ -9,4 +15,4 @@ class DivergenceError(RuntimeError):
     scene, the step and the simulated time."""
 
 
-__all__ = ["SceneError", "DivergenceError"]
+__all__ = ["SceneError", "ConfigError", "DivergenceError"]

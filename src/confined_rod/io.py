@@ -1,6 +1,7 @@
 """Input/output: the xarray Dataset of a run, its provenance, and safe writing."""
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import os
 import platform
@@ -35,19 +36,28 @@ def git_commit() -> str:
 
 
 def provenance() -> dict[str, str]:
-    import netCDF4
-    import numba
+    """Package version, git commit and library versions (read from the installed
+    distributions, so post-processing records numba's version without importing it)."""
+    from importlib.metadata import PackageNotFoundError, version
 
     from . import __version__
+
+    def v(dist: str) -> str:
+        try:
+            return version(dist)
+        except PackageNotFoundError:
+            return "not installed"
 
     return {
         "confined_rod_version": __version__,
         "git_commit": git_commit(),
         "python_version": platform.python_version(),
         "numpy_version": np.__version__,
-        "numba_version": numba.__version__,
+        "numba_version": v("numba"),
         "xarray_version": xr.__version__,
-        "netCDF4_version": netCDF4.__version__,
+        "netCDF4_version": v("netCDF4"),
+        "scipy_version": v("scipy"),
+        "matplotlib_version": v("matplotlib"),
     }
 
 
@@ -112,3 +122,17 @@ def _atomic(path: str | Path, write) -> Path:
         if tmp.exists():
             tmp.unlink()
     return path
+
+
+@contextlib.contextmanager
+def logged(path: str | Path):
+    """Send stdout, stderr and any traceback of the block to the log file ``path``."""
+    import traceback
+
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", buffering=1) as log, contextlib.redirect_stdout(log), contextlib.redirect_stderr(log):
+        try:
+            yield log
+        except BaseException:
+            traceback.print_exc(file=log)
+            raise

@@ -8,7 +8,8 @@ stores lengths in metres); ``units`` then names the combination of R and EI.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 
 @dataclass(frozen=True)
@@ -17,17 +18,74 @@ class Quantity:
     symbol: str  # LaTeX, for figure labels
     long_name: str
     units: str  # CF-style unit string in terms of the scene's R and EI
+    #: scene parameters only: the JSON-schema type of a config value (the config schema's
+    #: scene section is generated from it: python -m confined_rod schema)
+    schema: dict[str, Any] | None = field(default=None, compare=False)
+
+    @property
+    def choices(self) -> tuple[str, ...]:
+        """Allowed values of a categorical scene parameter."""
+        return tuple(self.schema["enum"]) if self.schema and "enum" in self.schema else ()
 
 
-_Q = [
-    Quantity("L", "L", "contour length of the rod", "R"),
-    Quantity("R", "R", "radius of the confining cylinder", "R"),
-    Quantity("EI", "EI", "bending stiffness of the rod", "EI"),
-    Quantity("load", "|F_z(0)|", "compressive axial load on the upper end", "EI R-2"),
-    Quantity("k_fr", "k_{fr}", "wall friction coefficient", "1"),
-    Quantity("l0", "l_0", "link length", "R"),
-    Quantity("k_ph", "k_{ph}", "physical stretching stiffness of the rod (bond constant k = k_ph/l0)", "EI R-2"),
-    Quantity("k_w", "k_w", "wall penalty constant per link end", "EI R-3"),
+_POS = {"type": "number", "exclusiveMinimum": 0}
+_NONNEG = {"type": "number", "minimum": 0}
+_POS_OR_DEFAULT = {"type": ["number", "null"], "exclusiveMinimum": 0}  # null: the resolved default
+_NONNEG_OR_DEFAULT = {"type": ["number", "null"], "minimum": 0}
+
+
+def _param(name, symbol, long_name, units, schema):
+    return Quantity(name, symbol, long_name, units, schema)
+
+
+#: Every field of confined_rod.Scene but its name, declared once: description, symbol,
+#: unit and config type. The schema's scene section, the dataset attributes and the
+#: parameter symbols of figure titles are derived from this list (tests/test_pipeline.py
+#: checks that they agree with Scene).
+SCENE_PARAMETERS = [
+    _param("L", "L", "contour length of the rod", "R", _POS),
+    _param("R", "R", "radius of the confining cylinder", "R", _POS),
+    _param("EI", "EI", "bending stiffness of the rod", "EI", _POS),
+    _param("load", "|F_z(0)|", "compressive axial load on the upper end", "EI R-2", _POS),
+    _param("k_fr", "k_{fr}", "wall friction coefficient", "1", _NONNEG),
+    _param("friction_cap", "f_{cap}", "cap on the wall friction force per unit length (0 = none)", "EI R-3",
+           _NONNEG_OR_DEFAULT),
+    _param("body_force", r"\mathbf{f}_{ext}", "external force per unit length (fx, fy, fz) on every link", "EI R-3",
+           {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}),
+    _param("pore_length", "z_{entr}", "height of the open pore entrance (default L)", "R", _POS_OR_DEFAULT),
+    _param("ends", "", "lateral end condition: free (paper) or pinned on the axis", "1",
+           {"enum": ["free", "pinned"]}),
+    _param("lower_end", "", "lower end held in z (paper) or free", "1", {"enum": ["held", "free"]}),
+    _param("floor", "", "the lower piston at z = 0 is a wall for the whole rod", "1", {"type": "boolean"}),
+    _param("protocol", "", "start: straight rod + 3-D perturbation, planar, or planar then 3-D", "1",
+           {"enum": ["straight", "planar", "planar_then_3d"]}),
+    _param("perturbation", "a", "amplitude of the random lateral displacement of the start", "R",
+           _NONNEG_OR_DEFAULT),
+    _param("kick", "a_{3D}", "out-of-plane perturbation of the second stage of planar_then_3d", "R",
+           _NONNEG_OR_DEFAULT),
+    _param("seed", r"\mathrm{seed}", "random seed of the perturbation", "1", {"type": "integer", "minimum": 0}),
+    _param("l0", "l_0", "link length", "R", _POS_OR_DEFAULT),
+    _param("k_ph", "k_{ph}", "physical stretching stiffness of the rod (bond constant k = k_ph/l0)", "EI R-2",
+           _POS_OR_DEFAULT),
+    _param("k_w", "k_w", "wall penalty constant per link end", "EI R-3", _POS_OR_DEFAULT),
+    _param("solver", "", "time integrator: implicit (fast default) or explicit (the paper's, reference)", "1",
+           {"enum": ["implicit", "explicit"]}),
+    _param("dx_max", "dx_{max}", "implicit solver: largest displacement of a link end per step", "R",
+           _POS_OR_DEFAULT),
+    _param("dt_factor", r"\Delta t/\Delta t_{stab}", "explicit solver: step over the estimated stability limit",
+           "1", {"type": "number", "exclusiveMinimum": 0, "maximum": 10}),
+    _param("tol", r"\mathrm{tol}", "equilibrium tolerance on the normalised force and torque residuals", "1", _POS),
+    _param("t_max", "t_{max}", "cap on the simulated time", "beta_ph R4 EI-1", _POS_OR_DEFAULT),
+    _param("rotational_drag", "", "rotational drag: paper (beta_ph l0 R^2) or rigid_link (beta_ph l0^3/12)", "1",
+           {"enum": ["paper", "rigid_link"]}),
+    _param("bending_constant", "",
+           "joint bending constant: corrected (C = EI/l0) or paper (the printed C = EI/l0^2, i.e. EI R/l0^2)", "1",
+           {"enum": ["corrected", "paper"]}),
+    _param("snapshot_interval", r"\Delta t_{snap}", "simulated time between stored shapes (0 = none)",
+           "beta_ph R4 EI-1", _NONNEG),
+]
+
+_Q = SCENE_PARAMETERS + [
     Quantity("s", "s", "arc length from the loaded (upper) end", "R"),
     Quantity("s_link", "s", "arc length of the link centre from the loaded end", "R"),
     Quantity("s_helix", "s", "arc length of the link centre from the loaded end", "R"),
@@ -89,15 +147,55 @@ _Q = [
     Quantity("observed_order", "p", "observed order of convergence (Richardson, three finest rungs)", "1"),
     Quantity("publication_distance", "", "relative distance of the publication setting from the limit", "1"),
     Quantity("error", r"\epsilon", "relative error of |F_z(L)| against the reference run", "1"),
-    Quantity("solver", "", "time integrator", "1"),
     Quantity("run_l0", "l_0", "link length of the run", "R"),
     Quantity("run_knob", "", "accuracy knob of the run: tol (explicit) or dx_max in R (implicit)", "1"),
+    # printed numbers of the paper (reference data) and the comparison with ours
+    Quantity("F_paper_fit", "f_{paper}", "the paper's printed fit A (l0' + s)^c of |F_z(s)|", "EI R-2"),
+    Quantity("paper_fit_A", "A", "prefactor A of the paper's printed fit", "EI R-2 R-c"),
+    Quantity("paper_fit_l0", "l_0'", "offset l0' of the paper's printed fit", "R"),
+    Quantity("paper_fit_c", "c", "exponent c of the paper's printed fit", "1"),
+    Quantity("has_paper_fit", "", "the paper prints a fit for this panel (1) or not (0)", "1"),
+    Quantity("paper_fit_fraction", "f(L)/f(0)", "transmitted fraction f(L)/f(0) of the paper's printed fit", "1"),
+    Quantity("paper_fit_F0", "f(0)", "value at the loaded end s = 0 of the paper's printed fit", "EI R-2"),
+    Quantity("paper_rms_log_ratio", "", "rms of ln(f_paper/|F_z|) over the fit window (the paper's curve against "
+             "our profile)", "1"),
+    Quantity("fit_fraction", "f(L)/f(0)", "transmitted fraction f(L)/f(0) of our fit", "1"),
+    Quantity("transmitted_fraction", "|F_z(L)|/|F_z(0)|", "transmitted fraction |F_z(L)|/|F_z(0)| of the simulated rod",
+             "1"),
+    Quantity("euler_ratio", r"|F_z(0)|/F_{crit}", "load over Euler's critical force pi^2 EI/L^2", "1"),
+    Quantity("tol_effective", r"\mathrm{tol}_{eff}", "equilibrium tolerance used (tol or the round-off floor)", "1"),
+    # Fig 5: pitch profile and the local helix relation
+    Quantity("F_link", "|F_z|", "axial force at the link centre (mean of its two joints)", "EI R-2"),
+    Quantity("omega", r"d\phi/ds", "azimuthal rate of the link centres (signed: handedness)", "rad R-1"),
+    Quantity("omega_helix", r"\omega_h(|F_z|)", "pitch rate of a torque-free helix on the wall carrying the local "
+             "|F_z|: small root of 2 EI w^2 sqrt(1 - R^2 w^2) = |F_z|", "rad R-1"),
+    Quantity("omega_lowest", r"\sqrt{|F_z|/2EI}", "lowest-order pitch rate sqrt(|F_z|/(2EI)) (paper's Eq. dotphi)",
+             "rad R-1"),
+    Quantity("F_helix", r"2EI\omega^2\sqrt{1-R^2\omega^2}", "axial force of a torque-free helix on the wall with the "
+             "local |dphi/ds|: 2 EI w^2 sqrt(1 - R^2 w^2)", "EI R-2"),
+    Quantity("helix_ratio", r"|F_z|/F_{helix}", "local ratio |F_z| / (2 EI w^2 sqrt(1 - R^2 w^2)), w = |dphi/ds|",
+             "1"),
+    Quantity("reversal", "", "a reversal of handedness (sign change of dphi/ds) lies between this link and the next",
+             "1"),
+    Quantity("s_reversal", "s", "arc length of a reversal of handedness (between two link centres)", "R"),
+    Quantity("exponent_omega_F", "", "slope of ln|dphi/ds| against ln|F_z| over the contact stretch (1/2 if "
+             "F_z ~ (dphi/ds)^2)", "1"),
+    Quantity("drop_omega", "", "relative decrease of |dphi/ds| along the contact stretch (median of the first "
+             "tenth against the last tenth)", "1"),
+    Quantity("drop_F", "", "relative decrease of |F_z| along the contact stretch (same windows)", "1"),
+    # Fig 1: shapes
+    Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),
+    Quantity("detached_top", "s_h", "length of the detached upper end (loaded end to first wall contact)", "R"),
+    Quantity("detached_bottom", "L - s_e", "length of the detached lower end (last wall contact to the support)", "R"),
+    Quantity("end_contact_force", "N_{end}", "wall force on the link of the detached end's tip that touches the wall",
+             "EI R-2"),
     Quantity("snap_x", "x", "x coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_y", "y", "y coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_z", "z", "z coordinate of the link centre (snapshot)", "R"),
 ]
 
 QUANTITIES: dict[str, Quantity] = {q.name: q for q in _Q}
+assert len(QUANTITIES) == len(_Q), "a quantity is declared twice"
 
 
 def attrs(name: str) -> dict[str, str]:
@@ -112,11 +210,26 @@ def error_attrs(name: str) -> dict[str, str]:
     return {"units": q.units, "long_name": f"standard error of the {q.long_name}"}
 
 
+_PRETTY_UNITS = {"R": "R", "EI R-2": "EI/R^2", "EI R-3": "EI/R^3", "rad R-1": "1/R", "R-1": "1/R",
+                 "beta_ph R4 EI-1": r"\beta_{ph} R^4/EI", "1": "", "rad": "rad", "EI": "EI", "s": "s"}
+
+
+def pretty_unit(units: str) -> str:
+    """LaTeX form of a CF unit string of this package ('EI R-2' -> 'EI/R^2')."""
+    return _PRETTY_UNITS.get(units, units)
+
+
 def label(name: str, unit_text: str | None = None) -> str:
     """Axis label, e.g. ``$|F_z(L)|$ [$EI/R^2$]`` (for figures)."""
     q = QUANTITIES[name]
-    pretty = {"R": "R", "EI R-2": "EI/R^2", "EI R-3": "EI/R^3", "rad R-1": "1/R",
-              "beta_ph R4 EI-1": r"\beta_{ph} R^4/EI", "1": "", "rad": "rad", "EI": "EI", "s": "s"}
-    u = unit_text if unit_text is not None else pretty.get(q.units, q.units)
+    u = unit_text if unit_text is not None else pretty_unit(q.units)
     sym = f"${q.symbol}$" if q.symbol else q.long_name
     return f"{sym} [${u}$]" if u else sym
+
+
+def param_text(name: str, value: float) -> str:
+    """'$k_{fr} = 0.8$', '$L = 320\\,R$': a parameter value for a figure title."""
+    q = QUANTITIES[name]
+    u = pretty_unit(q.units)
+    sym = q.symbol or q.name.replace("_", r"\_")
+    return f"${sym} = {value:g}" + (rf"\,{u}$" if u else "$")

@@ -17,12 +17,10 @@ from typing import Any
 
 import numpy as np
 
+from .errors import SceneError
 from .model import kernels as K
 from .model.parameters import DiscreteConstants, discrete_constants
-
-
-class SceneError(ValueError):
-    """Invalid scene input. The message names the key and the offending value."""
+from .quantities import QUANTITIES
 
 
 # Defaults of the numerical parameters, in units of R and EI (see docs/model.md,
@@ -40,11 +38,13 @@ DEFAULT_DX_MAX = 0.02  # R, largest displacement of a link end per implicit step
 
 _SCI = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+$")
 
-PROTOCOLS = ("straight", "planar", "planar_then_3d")
-ENDS = ("free", "pinned")
-LOWER_END = ("held", "free")
-ROTATIONAL_DRAG = ("paper", "rigid_link")
-SOLVERS = ("implicit", "explicit")
+# the allowed values of the categorical parameters are declared once, in quantities.py
+PROTOCOLS = QUANTITIES["protocol"].choices
+ENDS = QUANTITIES["ends"].choices
+LOWER_END = QUANTITIES["lower_end"].choices
+ROTATIONAL_DRAG = QUANTITIES["rotational_drag"].choices
+SOLVERS = QUANTITIES["solver"].choices
+BENDING_CONSTANT = QUANTITIES["bending_constant"].choices
 
 
 @dataclass(frozen=True)
@@ -86,6 +86,9 @@ class Scene:
                     (default 2e5 beta_ph R^4/EI explicit, 1e9 implicit: a frictional helix
                     settles slowly, over ~5e5 at L = 320 R, and the implicit steps grow as it does)
       rotational_drag 'paper' (gamma_r = beta_ph l0 R^2) or 'rigid_link' (beta_ph l0^3/12)
+      bending_constant 'corrected' (C = EI/l0, derived in docs/model.md) or 'paper' (the paper's
+                    printed C = EI/l0^2 read in its units R = 1, i.e. C = EI R/l0^2: a rod of
+                    effective bending stiffness EI R/l0). For reproducing the paper's numbers only
       snapshot_interval simulated time between stored shapes; 0 = none
     """
 
@@ -113,6 +116,7 @@ class Scene:
     tol: float = 1e-5
     t_max: float | None = None
     rotational_drag: str = "paper"
+    bending_constant: str = "corrected"
     snapshot_interval: float = 0.0
     name: str = "scene"
 
@@ -126,7 +130,7 @@ class Scene:
 
     def constants(self) -> DiscreteConstants:
         return discrete_constants(self.L, self.R, self.EI, self.l0, self.k_ph, self.k_w,
-                                  self.rotational_drag)
+                                  self.rotational_drag, self.bending_constant)
 
     def dt(self) -> float:
         return self.dt_factor * self.constants().dt_stable
@@ -239,7 +243,8 @@ def _validate(s: Scene) -> None:
     if isinstance(s.seed, bool) or not isinstance(s.seed, numbers.Integral) or s.seed < 0:
         fail("seed", "must be a non-negative integer")
     for key, allowed in (("protocol", PROTOCOLS), ("ends", ENDS), ("lower_end", LOWER_END),
-                         ("rotational_drag", ROTATIONAL_DRAG), ("solver", SOLVERS)):
+                         ("rotational_drag", ROTATIONAL_DRAG), ("solver", SOLVERS),
+                         ("bending_constant", BENDING_CONSTANT)):
         if getattr(s, key) not in allowed:
             fail(key, f"must be one of {', '.join(allowed)}")
     bf = s.body_force

@@ -1,4 +1,6 @@
-"""Stability stress test: run one point of a sweep and record how it ended.
+"""Stability stress test, simulation side: run one point of a sweep and record how it ended.
+
+The map that collects the points is post-processing: figures/stability_map.py.
 
 Each point either reaches equilibrium, runs into its time cap, escapes, diverges
 (:class:`DivergenceError`, with the solver's message naming step and time) or
@@ -58,30 +60,3 @@ def probe(params: Mapping[str, Any]) -> xr.Dataset:
     out.attrs.update({"message": message, "status_name": status,
                       "scene": str(params.get("name", "")), "solver": str(params.get("solver", "implicit"))})
     return out
-
-
-def stability_map(fig_cfg: Mapping[str, Any], probes: Mapping[str, xr.Dataset]) -> xr.Dataset:
-    """Collect the probes of a sweep (scene entries {solver, <parameter>: value})."""
-    names = list(probes)
-    entries = [dict(fig_cfg["scenes"][n] or {}) for n in names]
-    solver = [e.pop("solver", "implicit") for e in entries]
-    param = [next(iter(e)) if e else "base" for e in entries]
-    value = [float(e[p]) if p != "base" else 0.0 for e, p in zip(entries, param)]
-    data = {k: xr.Variable(("point",), np.array([probes[n][k].values for n in names]),
-                           attrs=probes[names[0]][k].attrs)
-            for k in ("status", "F_transmitted", "has_force", "wall_time", "n_steps")}
-    coords = {
-        "point": xr.Variable(("point",), np.array(names, dtype=object), attrs={"long_name": "sweep point",
-                                                                                "units": "1"}),
-        "solver": xr.Variable(("point",), np.array(solver, dtype=object),
-                              attrs={"long_name": "time integrator", "units": "1"}),
-        "parameter": xr.Variable(("point",), np.array(param, dtype=object),
-                                 attrs={"long_name": "swept parameter ('base': the defaults)", "units": "1"}),
-        "value": xr.Variable(("point",), np.array(value), attrs={"long_name": "value of the swept parameter",
-                                                                  "units": "1"}),
-    }
-    ds = xr.Dataset(data, coords=coords)
-    ds["message"] = xr.Variable(("point",), np.array([probes[n].attrs["message"] for n in names], dtype=object),
-                                attrs={"long_name": "how the run ended, in words", "units": "1"})
-    ds.attrs["sweeps"] = repr(dict(fig_cfg.get("sweeps", {})))
-    return ds

@@ -59,3 +59,32 @@ def critical_length(F0: float, k_fr: float, R: float = 1.0, EI: float = 1.0, *, 
     force_decay(s) = 4 EI/(k_fr R) / (s - l_c). The paper's Eq. (l_c) has 2 EI."""
     denom = K_DENOMINATOR_PAPER if paper else K_DENOMINATOR
     return -denom * EI / (k_fr * R * F0)
+
+
+#: largest |F_z| a torque-free helix on the wall can carry: max of 2 EI w^2 sqrt(1 - R^2 w^2),
+#: at (R w)^2 = 2/3, i.e. 4 EI/(3 sqrt(3) R^2)
+HELIX_F_MAX = 4.0 / (3.0 * np.sqrt(3.0))
+
+
+def helix_force(omega, R: float = 1.0, EI: float = 1.0):
+    """|F_z| = 2 EI w^2 sqrt(1 - R^2 w^2) of a torque-free helix on the wall with pitch rate
+    w = |dphi/ds| (docs/model.md); defined for R|w| <= 1 (0 beyond)."""
+    u = (R * np.asarray(omega, dtype=float)) ** 2
+    return 2.0 * EI / R**2 * u * np.sqrt(np.clip(1.0 - u, 0.0, None))
+
+
+def helix_pitch_rate(F, R: float = 1.0, EI: float = 1.0):
+    """Inverse of helix_force on its small-pitch branch: the w >= 0 with 2 EI w^2 sqrt(1 - R^2 w^2)
+    = |F| and (R w)^2 <= 2/3 (vectorised bisection to 1e-15). |F| above HELIX_F_MAX EI/R^2
+    has no helix on the wall: ValueError."""
+    f = np.abs(np.asarray(F, dtype=float)) * R**2 / (2.0 * EI)
+    if np.any(f > HELIX_F_MAX / 2.0 * (1 + 1e-12)):
+        raise ValueError(f"|F_z| up to {float(np.max(f)) * 2 * EI / R**2:g} exceeds the largest force a helix on "
+                         f"the wall carries, {HELIX_F_MAX * EI / R**2:.4g} EI/R^2")
+    lo, hi = np.zeros_like(f), np.full_like(f, 2.0 / 3.0)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        below = mid * np.sqrt(1.0 - mid) < f
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    return np.sqrt(0.5 * (lo + hi)) / R

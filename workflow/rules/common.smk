@@ -18,16 +18,24 @@ wildcard_constraints:
 ALL_TARGETS = pipeline.expected_outputs(config)
 
 # Code each step depends on, so that Snakemake's mtime trigger re-runs a step when
-# its code changes: a change to the physics re-runs the simulations, a change to
-# the fits re-runs only the postprocessing, a change to the styling only the figures.
+# its code changes: a change to the physics re-runs the simulations; a change to a
+# figure kind's module (dataset builder and plot) re-runs that kind's datasets and
+# figures; a change to the shared post-processing re-runs every dataset; a change to
+# the shared styling only the figures. Post-processing never imports the simulator.
 _PKG = Path(workflow.basedir) / "src" / "confined_rod"
-POSTPROCESS_CODE = [str(_PKG / f) for f in ("postprocess.py", "fits.py", "theory.py", "studies.py")]
-FIGURE_CODE = [str(_PKG / "plotting.py")]
+_FIGURES = _PKG / "figures"
+POSTPROCESS_SHARED = [
+    str(_PKG / f)
+    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py")
+] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
+STYLE_CODE = [str(_PKG / "plotting.py")]
+_NOT_SIMULATION = set(POSTPROCESS_SHARED + STYLE_CODE) | {
+    str(_PKG / f) for f in ("pipeline.py", "cli.py", "__main__.py", "config_schema.py")
+}
 SIMULATION_CODE = sorted(
     str(p)
     for p in _PKG.rglob("*.py")
-    if str(p) not in POSTPROCESS_CODE + FIGURE_CODE
-    and p.name not in ("pipeline.py", "cli.py", "__main__.py")
+    if str(p) not in _NOT_SIMULATION and _FIGURES not in p.parents
 )
 
 
@@ -35,12 +43,22 @@ def scene_sims(wildcards):
     return pipeline.figure_sims(config, wildcards.figure)
 
 
-def publication_value(wildcards):
-    """Convergence figures: the parameter's value in the publication settings."""
-    fig = config["figures"][wildcards.figure]
-    if fig["kind"] != "convergence":
-        return None
-    return pipeline.publication_value(config, wildcards.figure)
+def kind_code(wildcards):
+    """The module of this figure's kind."""
+    return [str(pipeline.kinds.module_path(config["figures"][wildcards.figure]["kind"]))]
+
+
+def postprocess_code(wildcards):
+    return POSTPROCESS_SHARED + kind_code(wildcards)
+
+
+def figure_code(wildcards):
+    return STYLE_CODE + kind_code(wildcards)
+
+
+def build_context(wildcards):
+    """What the figure's dataset builder needs from the config beyond its own entry."""
+    return pipeline.context(config, wildcards.figure)
 
 
 def simulate_runtime(wildcards):

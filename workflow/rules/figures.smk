@@ -2,7 +2,7 @@ rule figure:
     """Draw one figure (PDF for the paper, PNG for the report) from its dataset."""
     input:
         data="results/datasets/{figure}.nc",
-        code=FIGURE_CODE,
+        code=figure_code,
     output:
         pdf="results/figures/{figure}.pdf",
         png=report(

@@ -2,13 +2,13 @@ rule postprocess:
     """Collect a figure's scenes into the dataset the figure plots (with fits and analytic curves)."""
     input:
         sims=scene_sims,
-        code=POSTPROCESS_CODE,
+        code=postprocess_code,
     output:
         "results/datasets/{figure}.nc",
     params:
         figure_config=lambda wildcards: config["figures"][wildcards.figure],
         scenes=lambda wildcards: pipeline.scenes(config, wildcards.figure),
-        publication_value=publication_value,
+        context=build_context,
     log:
         "results/logs/postprocess/{figure}.log",
     benchmark:

@@ -4,12 +4,11 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 # isort: split
 import xarray as xr
 
-from confined_rod import studies
-from confined_rod.io import write_text
-from confined_rod.pipeline import logged
+from confined_rod import figures
+from confined_rod.io import logged, write_text
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     ds = xr.load_dataset(snakemake.input[0])  # noqa: F821
-    line = studies.check(ds, snakemake.wildcards.figure, snakemake.params.on_inconclusive)  # noqa: F821
+    line = figures.get(ds.attrs["kind"]).check(ds, snakemake.wildcards.figure, snakemake.params.on_inconclusive)  # noqa: F821
     print(line)
     write_text(line + "\n", snakemake.output[0])  # noqa: F821

@@ -5,7 +5,7 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 import xarray as xr
 
 from confined_rod import plotting
-from confined_rod.pipeline import logged
+from confined_rod.io import logged
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     plotting.plot(xr.load_dataset(snakemake.input.data), snakemake.output.pdf, snakemake.output.png)  # noqa: F821

@@ -5,13 +5,12 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 import xarray as xr
 
 from confined_rod import postprocess
-from confined_rod.io import write_dataset
-from confined_rod.pipeline import logged
+from confined_rod.io import logged, write_dataset
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     sims = {name: xr.load_dataset(path)
             for name, path in zip(snakemake.params.scenes, snakemake.input.sims)}  # noqa: F821
     ds = postprocess.build(snakemake.wildcards.figure, snakemake.params.figure_config, sims,  # noqa: F821
-                           publication_value=snakemake.params.publication_value)  # noqa: F821
+                           context=snakemake.params.context)  # noqa: F821
     write_dataset(ds, snakemake.output[0])  # noqa: F821
     print(ds)

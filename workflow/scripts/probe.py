@@ -2,8 +2,7 @@
 import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 
 # isort: split
-from confined_rod.io import finalize, write_dataset
-from confined_rod.pipeline import logged
+from confined_rod.io import finalize, logged, write_dataset
 from confined_rod.stability import probe
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)

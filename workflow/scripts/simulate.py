@@ -3,8 +3,7 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 
 # isort: split
 from confined_rod import Scene, simulate
-from confined_rod.io import write_dataset
-from confined_rod.pipeline import logged
+from confined_rod.io import logged, write_dataset
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     scene = Scene.from_dict(dict(snakemake.params.scene))  # noqa: F821

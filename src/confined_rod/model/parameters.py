@@ -3,6 +3,8 @@
 Bending:   E_b = (EI/2) int |dt/ds|^2 ds  ->  sum_joints C (1 - t_i.t_{i+1}),
            with |t_{i+1}-t_i|^2 = 2(1 - t_i.t_{i+1}) and dt/ds ~ (t_{i+1}-t_i)/l0:
            C = EI / l0          (a torque; the paper's C = EI/l0^2 is a force)
+           bending_constant='paper' reproduces the paper's formula in its units R = 1:
+           C = EI R / l0^2, the corrected constant of a rod of stiffness EI R/l0
 Bonds:     E_s = (k_ph/2) int eps^2 ds, gap = eps l0 per link:  k = k_ph / l0
 Drag:      translation  beta  = beta_ph l0
            rotation     gamma_r = beta_ph l0^3 / 12   ("rigid_link": a straight
@@ -31,9 +33,9 @@ class DiscreteConstants:
 
 
 def discrete_constants(L: float, R: float, EI: float, l0: float, k_ph: float, k_w: float,
-                       rotational_drag: str = "paper") -> DiscreteConstants:
+                       rotational_drag: str = "paper", bending_constant: str = "corrected") -> DiscreteConstants:
     N = int(round(L / l0))
-    C = EI / l0
+    C = EI / l0 if bending_constant == "corrected" else EI * R / l0**2
     k = k_ph / l0
     beta = BETA_PH * l0
     if rotational_drag == "rigid_link":

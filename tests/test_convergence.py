@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod import studies
+from confined_rod.figures import convergence as studies
+from confined_rod.measure import bulk_pitch
 
 
 def fake_sim(value, F, L_z=10.0, turns=2.0, param="l0"):
@@ -39,7 +40,7 @@ def ladder(F_of_h, turns=(2.0, 2.0, 2.0), pub=1.0, tol=0.05):
     hs = (1.0, 0.5, 0.25)
     sims = {f"r{i}": fake_sim(h, F_of_h(h), turns=t) for i, (h, t) in enumerate(zip(hs, turns))}
     cfg = {"parameter": "l0", "tolerance": tol}
-    return studies.convergence(cfg, sims, pub)
+    return studies.build(cfg, sims, {"publication_value": pub})
 
 
 def test_convergence_passes_and_fails_on_the_distance_from_the_limit():
@@ -69,5 +70,5 @@ def test_different_states_make_the_check_inconclusive_and_say_why():
 
 def test_bulk_pitch_of_a_helix():
     sim = fake_sim(1.0, 0.1, turns=2.0)  # z = s/2 over 20 R and 2 turns: pitch 5 R
-    assert studies.bulk_pitch(sim) == pytest.approx(5.0, rel=1e-9)
-    assert studies.bulk_pitch(fake_sim(1.0, 0.1, turns=0.5)) == 0.0
+    assert bulk_pitch(sim) == pytest.approx(5.0, rel=1e-9)
+    assert bulk_pitch(fake_sim(1.0, 0.1, turns=0.5)) == 0.0

@@ -1,8 +1,7 @@
-"""Numerical studies over ladders of scenes: convergence in a numerical parameter,
-and run time against error.  Pure functions of the scene datasets; the pipeline
-calls them through postprocess.build.
+"""Kind ``convergence``: a ladder of scenes refining one numerical parameter, its
+Richardson limit and the check of the publication setting (rule ``convergence_check``).
 
-Convergence (kind ``convergence``).  The scenes differ in one numerical parameter
+  The scenes differ in one numerical parameter
 (l0, k_ph, k_w or tol).  Its refinement variable h -> 0 is l0, 1/k_ph, 1/k_w or
 tol.  From the three finest rungs h1 > h2 > h3 (ratio r = h1/h2 = h2/h3) and an
 observable f, Richardson extrapolation gives
@@ -31,34 +30,58 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from .io import variable
-from .quantities import attrs
+from .. import plotting as P
+from ..errors import ConfigError
+from ..io import variable
+from ..measure import bulk_pitch, n_turns
+from ..quantities import attrs, label
+from ._common import same_except
 
 REFINEMENT = {"l0": ("h = l0", lambda v: v), "tol": ("h = tol", lambda v: v),
               "k_ph": ("h = 1/k_ph", lambda v: 1.0 / v), "k_w": ("h = 1/k_w", lambda v: 1.0 / v)}
 OBSERVABLES = ("F_transmitted", "L_z", "pitch")
+OPTIONS = {
+    "parameter": {"enum": list(REFINEMENT), "description": "the numerical parameter the rungs differ in"},
+    "tolerance": {"type": "number", "exclusiveMinimum": 0, "description": "largest relative distance of the "
+                  "publication setting from the extrapolated limit (of F_transmitted, L_z and the bulk pitch) "
+                  "before the build fails"},
+    "on_inconclusive": {"enum": ["fail", "warn"], "description": "what an inconclusive check (rungs in different "
+                        "equilibrium states, non-monotone differences) does to the build: fail, or warn and go on"},
+}
 
 
 class ConvergenceError(RuntimeError):
     """The publication settings are further from the extrapolated limit than the tolerance."""
 
 
-def n_turns(sim: xr.Dataset) -> float:
-    phi = sim["phi"].values
-    return float(abs(phi[-1] - phi[0]) / (2 * np.pi)) if phi.size >= 2 else 0.0
+def varied(fig_cfg) -> tuple[str, ...]:
+    return (fig_cfg.get("parameter"),)
 
 
-def bulk_pitch(sim: xr.Dataset) -> float:
-    """Axial length of one turn, 2 pi |dz/dphi|, fitted over the middle half of the
-    wall-contact stretch; 0 if the stretch winds less than one turn."""
-    if n_turns(sim) < 1.0:
-        return 0.0
-    phi = sim["phi"].values
-    z = sim["z"].sel(s_link=sim["s_helix"].values).values
-    n = phi.size
-    mid = slice(n // 4, n - n // 4)
-    slope = np.polyfit(phi[mid], z[mid], 1)[0]
-    return float(2 * np.pi * abs(slope))
+def validate(figure, fig_cfg, built, publication_value=None) -> None:
+    p = fig_cfg.get("parameter")
+    if "tolerance" not in fig_cfg:
+        raise ConfigError(f"figures.{figure}: a convergence figure needs a 'tolerance' (relative, e.g. 0.01)")
+    if p not in REFINEMENT:
+        raise ConfigError(f"figures.{figure}.parameter: {p!r} is not one of {', '.join(REFINEMENT)}")
+    same_except(figure, built, (p,), f"the rungs of a convergence ladder differ only in {p}")
+    vals = sorted({getattr(s, p) for s in built.values()})
+    if len(vals) < 3:
+        raise ConfigError(f"figures.{figure}.scenes: a convergence ladder needs at least 3 values of {p}")
+    pub = publication_value
+    if pub is not None and not any(abs(v - pub) <= 1e-9 * abs(pub) for v in vals):
+        raise ConfigError(f"figures.{figure}.scenes: the ladder over {p} ({', '.join(f'{v:g}' for v in vals)}) "
+                          f"must contain the publication value {p} = {pub:g}")
+
+
+def caption(figure, fig_cfg, built, publication_value=None) -> str:
+    p = fig_cfg["parameter"]
+    sc = next(iter(built.values()))
+    vals = ", ".join(f"{getattr(s, p):g}" for s in built.values())
+    return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}): transmitted force, L_z and "
+            f"bulk pitch against the refinement variable, with the Richardson limit from the three finest "
+            f"rungs and the band of +-{100 * float(fig_cfg['tolerance']):g} % about it that the publication "
+            f"value {p} = {publication_value:g} must lie in.")
 
 
 def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[float, float, str]:
@@ -85,8 +108,8 @@ def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[flo
     return p, float(f3 + (f3 - f2) / (r**p - 1.0)), ""
 
 
-def convergence(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset],
-                publication_value: float) -> xr.Dataset:
+def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
+    publication_value = float((context or {})["publication_value"])
     param = fig_cfg["parameter"]
     hname, hfun = REFINEMENT[param]
     items = sorted(sims.items(), key=lambda kv: -hfun(float(kv[1].attrs[param])))
@@ -161,34 +184,47 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
     return line
 
 
-def time_vs_error(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset]) -> xr.Dataset:
-    """Wall time and error of every scene against the reference scene's |F_z(L)|."""
-    ref_name = fig_cfg["reference"]
-    ref = sims[ref_name]
-    F_ref = float(ref["F_transmitted"])
-    names = [n for n in sims if n != ref_name]
-    F = np.array([float(sims[n]["F_transmitted"]) for n in names])
-    data = {
-        "wall_time": variable(("run",), [float(sims[n]["wall_time"]) for n in names], "wall_time"),
-        "F_transmitted": variable(("run",), F, "F_transmitted"),
-        "error": variable(("run",), np.maximum(np.abs(F - F_ref) / F_ref, 1e-16), "error"),
-        "converged": variable(("run",), [np.int8(sims[n]["converged"]) for n in names], "converged"),
-        "n_contact": variable(("run",), [int(sims[n]["contact"].sum()) for n in names], "n_contact"),
-    }
-    knob = {"explicit": "tol", "implicit": "dx_max"}  # each solver's accuracy knob (explicit: dt is pinned)
-    coords = {
-        "run": xr.Variable(("run",), np.array(names, dtype=object), attrs=attrs("scene")),
-        "solver": xr.Variable(("run",), np.array([sims[n].attrs["solver"] for n in names], dtype=object),
-                              attrs=attrs("solver")),
-        "run_l0": variable(("run",), [float(sims[n].attrs["l0"]) for n in names], "run_l0"),
-        "run_knob": xr.Variable(("run",), np.array([float(sims[n].attrs[knob[sims[n].attrs["solver"]]])
-                                                    for n in names]), attrs=attrs("run_knob")),
-    }
-    ds = xr.Dataset(data, coords=coords)
-    ds.attrs.update({"reference": ref_name, "F_reference": F_ref, "reference_wall_time": float(ref["wall_time"]),
-                     "reference_solver": ref.attrs["solver"], "reference_l0": float(ref.attrs["l0"]),
-                     "reference_knob": f"{knob[ref.attrs['solver']]} = {float(ref.attrs[knob[ref.attrs['solver']]]):g}",
-                     "error_definition": "|F_z(L) - F_ref| / F_ref, F_ref from the reference scene: the same rod "
-                                         "with the finest numerics of the ladder (see reference_*)",
-                     "timing": "wall time of each simulate job, one core per job"})
-    return ds
+
+_H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w": r"$h = 1/k_w$ [$R^3/EI$]",
+            "tol": r"$h = \mathrm{tol}$"}
+
+
+def plot(ds: xr.Dataset):
+    """One panel per observable against the refinement variable h (log axis): the
+    rungs, the Richardson limit, the tolerance band about it and the publication rung."""
+    obs = [k for k in OBSERVABLES if k in ds]
+    fig, axes = P.plt.subplots(1, len(obs), figsize=(2.7 * len(obs) + 0.4, 3.0), squeeze=False,
+                               label=ds.attrs["title"])
+    h = ds["h"].values
+    param = ds.attrs["parameter"]
+    pub = np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9)
+    tol = float(ds.attrs["tolerance"])
+    checked = list(ds["observable"].values)
+    for ax, k in zip(axes[0], obs):
+        f = ds[k].values
+        ax.plot(h, f, "-", color="0.6", lw=0.7)
+        ax.plot(h, f, "o", ms=4.5, **P.SIM, label="rungs")
+        ax.plot(h[pub], f[pub], "s", ms=9, mfc="none", mec="tab:green", mew=1.4, label="publication setting")
+        if k in checked:
+            i = checked.index(k)
+            lim = float(ds[f"{k}_limit"])
+            ax.axhline(lim, **P.MODEL, label="Richardson limit")
+            ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
+                       label=rf"limit $\pm$ {100 * tol:g} %")
+            order = float(ds.observed_order[i])
+            ax.text(0.04, 0.96, (f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable") + "\n"
+                    f"pub.: {100 * float(ds.publication_distance[i]):.2g} % off",
+                    transform=ax.transAxes, va="top", fontsize=7.5)
+        else:
+            ax.text(0.04, 0.96, "not checked\n(not every rung is a helix)", transform=ax.transAxes,
+                    va="top", fontsize=7.5)
+        ax.set_xscale("log")
+        P.plain_log_ticks(ax.xaxis)
+        ax.set_xlabel(_H_LABEL[param])
+        ax.set_ylabel(label(k))
+    status = ds.attrs["status"]
+    short = status if len(status) < 70 else status[:67] + "..."
+    fig.suptitle(f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
+                 f"{short}\n" + P.params_text(ds, ("L", "load", "k_fr")), fontsize=9)
+    P.bottom_legend(fig, axes[0][0], bottom=0.08)
+    return fig

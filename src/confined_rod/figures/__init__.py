@@ -1,0 +1,53 @@
+"""Figure kinds, one module each, found by name: ``confined_rod/figures/<kind>.py``.
+
+A kind module holds everything about one kind of figure:
+
+    OPTIONS   JSON-schema properties of the kind's own config entries (the config
+              schema is generated from them: ``python -m confined_rod schema``)
+    SOURCE    "simulate" (default) or "probe": the rule that makes its scene files
+    validate(figure, fig_cfg, built)   built: scene id -> Scene; raise ConfigError
+    varied(fig_cfg)                    scene parameters that differ between its scenes
+    caption(figure, fig_cfg, built)    what the figure shows (the pipeline adds the title
+                                       and the common parameters)
+    build(fig_cfg, sims, context)      scene id -> scene dataset  =>  the figure's dataset
+    plot(ds)                           the figure's dataset  =>  a matplotlib Figure
+
+Adding a kind is one new module here and its entry in a config (then regenerate the
+schema). The modules are post-processing: they read datasets and never import the
+simulator (``tests/test_pipeline.py`` checks this); validation receives Scene
+objects built by :mod:`confined_rod.pipeline`.
+"""
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from pathlib import Path
+from types import ModuleType
+
+from ..errors import ConfigError
+
+HERE = Path(__file__).resolve().parent
+
+
+def kinds() -> list[str]:
+    """Every figure kind: the modules of this package whose names do not start with '_'."""
+    return sorted(m.name for m in pkgutil.iter_modules([str(HERE)]) if not m.name.startswith("_"))
+
+
+def get(kind: str) -> ModuleType:
+    if kind not in kinds():
+        raise ConfigError(f"figure kind {kind!r} is not one of {', '.join(kinds())}")
+    return importlib.import_module(f"{__name__}.{kind}")
+
+
+def module_path(kind: str) -> Path:
+    return HERE / f"{kind}.py"
+
+
+def source(kind: str) -> str:
+    return getattr(get(kind), "SOURCE", "simulate")
+
+
+def varied(kind: str, fig_cfg) -> tuple[str, ...]:
+    fn = getattr(get(kind), "varied", None)
+    return tuple(fn(fig_cfg)) if fn else ()

@@ -1,0 +1,232 @@
+"""Kind ``force_profile`` (paper Figs 4 and 7): |F_z(s)| along the rod, fitted with A (l0' + s)^c.
+
+One panel per scene; the scenes differ at most in ``panel_parameter`` (the reading of
+the paper's Fig 4 panels). Each panel holds the profile, our fit over the wall-contact
+stretch, the simple model from the first wall contact (corrected 4EI and printed 2EI)
+and, where the config gives them (``paper_fits``), the paper's printed fit parameters
+and curve, with the deviation between the paper's curve and ours stored in the dataset:
+the rms of ln(f_paper/|F_z|) over the contact stretch, and the transmitted fraction
+F(L)/F(0) from our data, from our fit and from the printed fit.
+"""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .. import plotting as P
+from .. import theory
+from ..errors import ConfigError
+from ..fits import PARAMS, FitError, fit_power_law, power_law
+from ..io import variable
+from ..measure import contact_range, euler_ratio, n_turns
+from ..quantities import attrs, error_attrs, label
+from ._common import check_scene_keys, same_except, scene_coord
+
+_PAPER_FIT = {"type": "object", "additionalProperties": False, "required": ["A", "l0", "c"],
+              "properties": {"A": {"type": "number", "exclusiveMinimum": 0},
+                             "l0": {"type": "number", "exclusiveMinimum": 0}, "c": {"type": "number"}}}
+OPTIONS = {
+    "panel_parameter": {"type": "string", "description": "the one Scene field whose value differs between the "
+                        "panels (the reading of the paper's Fig 4 panels (a)-(c))"},
+    "fit_trim": {"type": "number", "minimum": 0, "description": "length (R) cut from each end of the "
+                 "wall-contact stretch before the fit"},
+    "paper_fits": {"type": "object", "additionalProperties": _PAPER_FIT,
+                   "description": "scene id -> the paper's printed fit {A, l0 (the paper's l0'), c}, drawn "
+                                  "beside ours and compared in the dataset"},
+    "paper_euler_ratio": {"type": "number", "exclusiveMinimum": 0,
+                          "description": "the load / Euler force ratio printed in the paper's caption"},
+}
+
+
+MIN_CONTACT = 5  # links on the wall below which a profile is not a wall-contact helix
+
+
+def varied(fig_cfg) -> tuple[str, ...]:
+    p = fig_cfg.get("panel_parameter")
+    return (p,) if p else ()
+
+
+def validate(figure, fig_cfg, built) -> None:
+    p = fig_cfg.get("panel_parameter")
+    sc = next(iter(built.values()))
+    if p is not None and p not in type(sc).__dataclass_fields__:
+        raise ConfigError(f"figures.{figure}.panel_parameter: {p!r} is not a Scene field")
+    same_except(figure, built, varied(fig_cfg), f"the panels of a force-profile figure differ only in "
+                                                f"panel_parameter ({p!r})")
+    if p and len({getattr(s, p) for s in built.values()}) != len(built):
+        raise ConfigError(f"figures.{figure}.scenes: two panels have the same {p} value")
+    check_scene_keys(figure, "paper_fits", fig_cfg.get("paper_fits"), built)
+
+
+def caption(figure, fig_cfg, built) -> str:
+    p = fig_cfg.get("panel_parameter")
+    sc = next(iter(built.values()))
+    body = f"Axial force |F_z(s)| along the rod (s from the loaded end), L/R = {sc.L:g}"
+    if p:
+        body += ". Panels: " + "; ".join(f"({chr(97 + i)}) {p} = {getattr(s, p):g}"
+                                         for i, s in enumerate(built.values())) + "."
+    else:
+        body += f", k_fr = {sc.k_fr:g}."
+    body += (" Black: simulation; red: fit A (l0' + s)^c over the wall-contact stretch (grey band; "
+             f"trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; values and standard errors in the "
+             "panel and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
+             "from the first wall contact s_h; grey dotted: the same with the paper's 2EI.")
+    if fig_cfg.get("paper_fits"):
+        body += (" Orange dash-dotted: the paper's printed fit (its A, l0', c in the panel); F(L)/F(0) is the "
+                 "transmitted fraction of our rod and of the printed fit, f(L)/f(0). The difference is a result, "
+                 "not a tuning target (docs/model.md, 'Where the paper's fits disagree with ours').")
+    if sc.bending_constant == "paper":
+        body += (" Run AS PRINTED: the paper's bending constant C = EI/l0^2 (effective stiffness "
+                 f"EI R/l0 = {sc.EI * sc.R / sc.l0:g} EI at l0 = {sc.l0:g} R), not the corrected C = EI/l0.")
+    return body
+
+
+def build(fig_cfg, sims, context=None) -> xr.Dataset:
+    p = fig_cfg.get("panel_parameter")
+    trim = float(fig_cfg.get("fit_trim", 0.0))
+    printed = fig_cfg.get("paper_fits") or {}
+    names = list(sims)
+    s = sims[names[0]]["s"].values
+    rows = {k: [] for k in ("F_abs", "F_fit", "in_fit", "F_simple", "F_simple_paper", "F_paper_fit")}
+    scal = {k: [] for k in ("fit_A", "fit_l0", "fit_c", "fit_cov", "fit_rms", "s_h", "s_end", "n_fit",
+                            "fit_fraction", "paper_fit_A", "paper_fit_l0", "paper_fit_c", "has_paper_fit",
+                            "paper_fit_fraction", "paper_fit_F0", "paper_rms_log_ratio")}
+    err = {k: [] for k in ("fit_A", "fit_l0", "fit_c")}
+    for name in names:
+        d = sims[name]
+        if d["s"].size != s.size or not np.allclose(d["s"].values, s):
+            raise ValueError(f"scene {name!r}: the panels of a force-profile figure must share the rod discretisation")
+        R, EI, k_fr, L = (float(d.attrs[k]) for k in ("R", "EI", "k_fr", "L"))
+        F = np.abs(d["F_z"].values)
+        if int(d["contact"].sum()) < MIN_CONTACT:
+            raise ValueError(f"scene {name!r}: {int(d['contact'].sum())} links touch the wall (converged = "
+                             f"{int(d['converged'])}, tol_effective = {d.attrs.get('tol_effective', '?')}): not a "
+                             "helix on the wall but the straight or planar saddle the run stopped on (docs/model.md, "
+                             "'Caveat: saddles'); raise its perturbation or lower tol")
+        s_h, s_e = contact_range(d)
+        tiny = 1e-9 * L  # s_h, s_e are joints: include them despite rounding
+        window = (s >= s_h + trim - tiny) & (s <= s_e - trim + tiny)
+        F_h = float(np.interp(s_h, s, F))
+        guess_A = 4 * EI / (k_fr * R) if k_fr > 0 else F_h
+        guess_l0 = max(4 * EI / (k_fr * R * F_h) - s_h, 1.0) if k_fr > 0 else 1.0
+        try:
+            f = fit_power_law(s[window], F[window], guess=(guess_A, guess_l0, -1.0))
+        except FitError as e:
+            raise FitError(f"scene {name!r}: {e}") from e
+        rows["F_abs"].append(F)
+        rows["F_fit"].append(f(s))
+        rows["in_fit"].append(window.astype(np.int8))
+        rows["F_simple"].append(theory.force_decay(np.maximum(s - s_h, 0.0), F_h, k_fr, R, EI))
+        rows["F_simple_paper"].append(theory.force_decay(np.maximum(s - s_h, 0.0), F_h, k_fr, R, EI, paper=True))
+        for k, v, e in zip(("fit_A", "fit_l0", "fit_c"), (f.A, f.l0_fit, f.c), f.errors):
+            scal[k].append(v)
+            err[k].append(e)
+        scal["fit_cov"].append(f.covariance)
+        scal["fit_rms"].append(f.rms_relative_residual)
+        scal["s_h"].append(s_h)
+        scal["s_end"].append(s_e)
+        scal["n_fit"].append(f.n_points)
+        scal["fit_fraction"].append(float(f(L) / f(0.0)))
+        pf = printed.get(name)
+        if pf:
+            curve = power_law(s, pf["A"], pf["l0"], pf["c"])
+            scal["paper_rms_log_ratio"].append(float(np.sqrt(np.mean(np.log(curve[window] / F[window]) ** 2))))
+            scal["paper_fit_fraction"].append(float(curve[-1] / curve[0]))
+            scal["paper_fit_F0"].append(float(curve[0]))
+            vals = (pf["A"], pf["l0"], pf["c"], 1)
+        else:
+            curve = np.zeros_like(s)
+            scal["paper_rms_log_ratio"].append(0.0)
+            scal["paper_fit_fraction"].append(0.0)
+            scal["paper_fit_F0"].append(0.0)
+            vals = (0.0, 0.0, 0.0, 0)
+        rows["F_paper_fit"].append(curve)
+        for k, v in zip(("paper_fit_A", "paper_fit_l0", "paper_fit_c", "has_paper_fit"), vals):
+            scal[k].append(v)
+
+    PJ = ("panel", "joint")
+    data = {k: variable(PJ, v, k) for k, v in rows.items()}
+    data["fit_cov"] = variable(("panel", "param", "param_"), scal.pop("fit_cov"), "fit_cov")
+    for k, v in scal.items():
+        data[k] = variable(("panel",), np.int8(v) if k == "has_paper_fit" else v, k)
+    for k in ("fit_A", "fit_l0", "fit_c"):
+        data[k + "_err"] = xr.Variable(("panel",), np.array(err[k]), attrs=error_attrs(k))
+    data.update({
+        "F_transmitted": variable(("panel",), [float(sims[n]["F_transmitted"]) for n in names], "F_transmitted"),
+        "transmitted_fraction": variable(("panel",), [float(sims[n]["F_transmitted"]) / float(sims[n].attrs["load"])
+                                                      for n in names], "transmitted_fraction"),
+        "converged": variable(("panel",), [np.int8(sims[n]["converged"]) for n in names], "converged"),
+        "n_contact": variable(("panel",), [int(sims[n]["contact"].sum()) for n in names], "n_contact"),
+        "n_turns": variable(("panel",), [n_turns(sims[n]) for n in names], "n_turns"),
+        "euler_ratio": variable(("panel",), [euler_ratio(sims[n]) for n in names], "euler_ratio"),
+        "tol_effective": variable(("panel",), [float(sims[n].attrs.get("tol_effective", sims[n].attrs["tol"]))
+                                               for n in names], "tol_effective"),
+    })
+    data["has_paper_fit"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
+    coords = {
+        "s": variable(("joint",), s, "s"),
+        "panel": xr.Variable(("panel",), np.array(names, dtype=object), attrs=attrs("panel")),
+        "param": xr.Variable(("param",), np.array(PARAMS, dtype=object), attrs=attrs("param")),
+        "param_": xr.Variable(("param_",), np.array(PARAMS, dtype=object), attrs=attrs("param")),
+    }
+    if p:
+        pv = [float(sims[n].attrs[p]) for n in names]
+        coords["panel_value"] = xr.Variable(("panel",), np.array(pv), attrs={**attrs("panel_value"),
+                                            "long_name": f"value of {p} in the panel", "parameter": p})
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update({"panel_parameter": p or "none", "fit_trim": trim,
+                     "fit_method": "scipy.optimize.curve_fit, relative residuals (sigma = |F_z|), A > 0, l0' > 0",
+                     "fit_window": "joints between the first and the last link touching the wall, trimmed by fit_trim",
+                     "paper_euler_ratio": float(fig_cfg.get("paper_euler_ratio", 0.0)),
+                     "paper_reference": "D. Svensek and R. Podgornik, Confined nanorods: jamming due to helical "
+                                        "buckling; printed fit parameters as given in the config (paper_fits)"})
+    return ds
+
+
+def plot(ds: xr.Dataset):
+    n = ds.sizes["panel"]
+    width = 2.75 * n + 0.6 if n > 1 else 4.6
+    fig, axes = P.plt.subplots(1, n, figsize=(width, 3.6), sharey=True, squeeze=False, label=ds.attrs["title"])
+    s = ds["s"].values
+    p = ds.attrs.get("panel_parameter", "none")
+    for i, ax in enumerate(axes[0]):
+        d = ds.isel(panel=i)
+        w = d["in_fit"].values == 1
+        ax.axvspan(float(d.s_h), float(d.s_end), color="0.93", zorder=0, lw=0, label="wall contact")
+        ax.plot(s, d["F_abs"], lw=2.2, **P.SIM, label="simulation")
+        ax.plot(s[w], d["F_fit"].values[w], **P.FIT, label=r"our fit $A\,(l_0'+s)^c$")
+        ax.plot(s, d["F_simple"], **P.MODEL, label=r"simple model, $K = RF^2/(4EI)$")
+        ax.plot(s, d["F_simple_paper"], **P.PAPER, label=r"paper's form, $K = RF^2/(2EI)$")
+        text = (f"$A = {float(d.fit_A):.3g} \\pm {float(d.fit_A_err):.2g}$\n"
+                f"$l_0' = {float(d.fit_l0):.3g} \\pm {float(d.fit_l0_err):.2g}\\,R$\n"
+                f"$c = {float(d.fit_c):.3f} \\pm {float(d.fit_c_err):.3f}$\n"
+                f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f}$")
+        ax.text(0.04, 0.04, text, transform=ax.transAxes, ha="left", va="bottom", fontsize=7, color=P.FIT["color"])
+        if int(d.has_paper_fit):
+            ax.plot(s, d["F_paper_fit"], **P.PAPER_FIT, label="paper's printed fit")
+            ax.text(0.96, 0.96, f"paper: $A = {float(d.paper_fit_A):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$, "
+                    f"$c = {float(d.paper_fit_c):g}$\n$f(L)/f(0) = {float(d.paper_fit_fraction):.3f}$",
+                    transform=ax.transAxes, ha="right", va="top", fontsize=7, color=P.PAPER_FIT["color"])
+        ax.set_yscale("log")
+        P.plain_log_ticks(ax.yaxis)
+        ax.set_xlabel(label("s"))
+        title = f"({chr(97 + i)})" if n > 1 else ""
+        if p != "none":
+            title += " " + P.param_text(p, float(d.panel_value))
+        ax.set_title(title, fontsize=9, loc="left")
+        ax.set_xlim(0, s[-1])
+    axes[0][0].set_ylabel(label("F_abs"))
+    head = P.params_text(ds, ("L", "load", "k_fr", "l0"))
+    if ds.attrs.get("bending_constant") == "paper":
+        head += r"; AS PRINTED: $C = EI/l_0^2$"
+    fig.suptitle(head, fontsize=9)
+    handles, labels = [], []
+    for ax in axes[0]:  # the paper's curve may be in some panels only
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4 if n > 1 else 2),
+               bbox_to_anchor=(0.5, -0.01))
+    fig.tight_layout(rect=(0, 0.15 if n == 1 else 0.1, 1, 1))
+    return fig
