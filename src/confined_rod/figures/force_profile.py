@@ -204,10 +204,14 @@ def plot(ds: xr.Dataset):
         ax.text(0.04, 0.04, text, transform=ax.transAxes, ha="left", va="bottom", fontsize=7, color=P.FIT["color"])
         if int(d.has_paper_fit):
             ax.plot(s, d["F_paper_fit"], **P.PAPER_FIT, label="paper's printed fit")
-            ax.text(0.96, 0.96, f"paper: $A = {float(d.paper_fit_A):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$, "
+            ax.text(0.97, 0.04, f"paper: $A = {float(d.paper_fit_A):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$, "
                     f"$c = {float(d.paper_fit_c):g}$\n$f(L)/f(0) = {float(d.paper_fit_fraction):.3f}$",
-                    transform=ax.transAxes, ha="right", va="top", fontsize=7, color=P.PAPER_FIT["color"])
+                    transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color=P.PAPER_FIT["color"])
         ax.set_yscale("log")
+        # shared y range: every curve, with room below them for the two text blocks
+        low = min(float(ds["F_abs"].min()), float(ds["F_simple_paper"].min()))
+        high = max(float(ds["F_abs"].max()), float(ds["F_paper_fit"].max()))
+        ax.set_ylim(0.3 * low, 1.15 * high)
         P.plain_log_ticks(ax.yaxis)
         ax.set_xlabel(label("s"))
         title = f"({chr(97 + i)})" if n > 1 else ""

@@ -158,7 +158,9 @@ def plot(ds: xr.Dataset):
 
     def info(ax, n, loc):
         d = ds.sel(scene=n)
-        txt = (f"({next(panel)}) $L/R = {float(d.L):g}$\n$|F_z(0)|/F_{{crit}} = {float(d.euler_ratio):,.{1 if float(d.euler_ratio) < 100 else 0}f}$"
+        r = float(d.euler_ratio)
+        ratio = f"{r:,.{1 if r < 100 else 0}f}".replace(",", "{,}")  # thousands separator in mathtext
+        txt = (f"({next(panel)}) $L/R = {float(d.L):g}$\n$|F_z(0)|/F_{{crit}} = {ratio}$"
                + (f"\n(paper: {float(d.paper_euler_ratio):,g})" if float(d.paper_euler_ratio) else ""))
         ax.set_title(txt, fontsize=8, loc=loc)
 

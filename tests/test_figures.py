@@ -1,0 +1,193 @@
+"""Figure kinds (src/confined_rod/figures/): the registry, the generated schema, the
+separation of post-processing from the simulator, and the physics of Figs 1, 5 and 7."""
+import dataclasses
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from confined_rod import Scene, figures, plotting, postprocess, simulate, theory
+from confined_rod.config_schema import render, scene_schema
+from confined_rod.errors import ConfigError
+from confined_rod.io import check_finite
+from confined_rod.quantities import QUANTITIES, SCENE_PARAMETERS, param_text
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+# -- registry, declarations, schema ------------------------------------------------------
+def test_every_kind_module_has_the_interface():
+    assert {"transmitted_force", "force_profile", "convergence", "time_vs_error", "stability_map",
+            "pitch_profile", "helix_views"} <= set(figures.kinds())
+    for k in figures.kinds():
+        m = figures.get(k)
+        for fn in ("build", "plot", "caption"):
+            assert callable(getattr(m, fn)), (k, fn)
+        assert callable(getattr(m, "validate", None)) or callable(getattr(m, "validate_config", None)), k
+    with pytest.raises(ConfigError, match="'nope' is not one of"):
+        figures.get("nope")
+
+
+def test_scene_parameters_are_declared_once_and_agree_with_scene():
+    fields = {f.name for f in dataclasses.fields(Scene)} - {"name"}
+    assert [q.name for q in SCENE_PARAMETERS] == [f.name for f in dataclasses.fields(Scene) if f.name != "name"]
+    assert set(scene_schema()["properties"]) == fields
+    for q in SCENE_PARAMETERS:  # the same object serves the dataset attributes and the figure symbols
+        assert QUANTITIES[q.name] is q
+        assert q.schema["description"] if "description" in q.schema else True
+    # categorical values: Scene accepts exactly the declared ones
+    for q in SCENE_PARAMETERS:
+        for v in q.choices:
+            Scene(**{q.name: v})
+    assert param_text("L", 320) == r"$L = 320\,R$" and param_text("k_fr", 0.8) == r"$k_{fr} = 0.8$"
+
+
+def test_committed_schema_is_the_generated_one():
+    committed = (ROOT / "workflow/schemas/config.schema.yaml").read_text()
+    assert committed == render(), "regenerate: python -m confined_rod schema -o workflow/schemas/config.schema.yaml"
+
+
+def test_postprocessing_never_imports_the_simulator():
+    code = ("import sys, confined_rod.postprocess, confined_rod.plotting, confined_rod.measure\n"
+            "from confined_rod import figures\n"
+            "[figures.get(k) for k in figures.kinds()]\n"
+            "bad = [m for m in ('confined_rod.simulation', 'confined_rod.scenes', 'confined_rod.solvers', 'numba')\n"
+            "       if m in sys.modules]\n"
+            "print(bad); sys.exit(1 if bad else 0)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stdout + out.stderr
+
+
+# -- the helix relation (Fig 5) -------------------------------------------------------------
+def test_helix_pitch_rate_inverts_the_helix_force():
+    w = np.array([1e-3, 0.1, 0.3, 0.5, 0.8])  # R w < sqrt(2/3) = 0.816
+    F = theory.helix_force(w)
+    np.testing.assert_allclose(theory.helix_pitch_rate(F), w, rtol=1e-9)
+    np.testing.assert_allclose(theory.helix_pitch_rate(F * 0.75 / 3.0 ** 2, R=2.0, EI=3.0 / 4.0 * 0 + 0.75),
+                               theory.helix_pitch_rate(F * 0.75 / 9.0, R=2.0, EI=0.75))
+    assert theory.helix_pitch_rate(1e-6) ** 2 == pytest.approx(1e-6 / 2, rel=1e-5)  # lowest order
+    with pytest.raises(ValueError, match="largest force a helix"):
+        theory.helix_pitch_rate(0.8)
+
+
+@pytest.fixture(scope="module")
+def frictionless_helix():
+    # implicit solver, publication numerics, about 1 s
+    return simulate(Scene(L=60.0, load=0.25, k_fr=0.0, k_ph=1e4, tol=1e-6), progress=False)
+
+
+def test_pitch_profile_satisfies_the_helix_relation_without_friction(frictionless_helix):
+    """Without friction the bulk is a torque-free helix: |F_z| = 2 EI w^2 sqrt(1 - R^2 w^2)
+    with the measured w. The discrete helix (chords of l0 = 0.5 R) differs from the
+    continuum by O((w l0)^2/12) = 0.3 % at w = 0.37 (measured 0.26 % at L/R = 640); 1 %."""
+    ds = postprocess.build("fig5", {"kind": "pitch_profile", "title": "t"}, {"c": frictionless_helix})
+    check_finite(ds)
+    bulk = ds.in_bulk.values == 1
+    assert bulk.sum() > 40
+    assert float(ds.helix_ratio_median) == pytest.approx(1.0, abs=0.01)
+    # pointwise in the middle half: the pitch relaxes to the bulk value over ~10 R from each end
+    # transition zone (measured 12 % off at the stretch's first tenth on this short rod)
+    mid = bulk & (np.abs(ds.s_helix.values - 30.0) < 15.0)
+    np.testing.assert_allclose(ds.helix_ratio.values[mid], 1.0, atol=0.01)
+    np.testing.assert_allclose(np.abs(ds.omega.values[mid]), ds.omega_helix.values[mid], rtol=0.01)
+    assert abs(float(ds.drop_F)) < 1e-3  # no friction: the force does not fall along the rod
+
+
+def test_pitch_profile_on_a_model_helix_with_a_reversal():
+    """Synthetic: |F| decays, w = helix_pitch_rate(|F|) exactly, handedness flips once.
+    The ratio is 1 wherever the pitch is defined, the reversal is found between the right
+    links, and the slope of ln w against ln F is the exact relation's (about 1/2)."""
+    n = 200
+    s = (np.arange(n) + 0.5) * 0.5
+    F_j = 0.2 / (1 + 0.02 * np.arange(n + 1) * 0.5)
+    F_l = 0.5 * (F_j[1:] + F_j[:-1])
+    w = theory.helix_pitch_rate(F_l)
+    w[120:] *= -1
+    phi = np.concatenate([[0.0], np.cumsum(0.5 * 0.5 * (w[1:] + w[:-1]))])
+    sim = xr.Dataset({"F_z": ("joint", -F_j), "contact": ("link", np.ones(n, np.int8)), "dphi_ds": ("helix", w),
+                      "phi": ("helix", phi)},
+                     coords={"s_link": ("link", s), "s_helix": ("helix", s)},
+                     attrs={"R": 1.0, "EI": 1.0, "L": 100.0, "l0": 0.5, "load": 0.2})
+    ds = postprocess.build("fig5", {"kind": "pitch_profile", "title": "t"}, {"m": sim})
+    assert ds.attrs["n_reversals"] == 1
+    assert float(ds.s_reversal[0]) == pytest.approx(0.5 * (s[119] + s[120]))
+    ok = ds.pitch_defined.values == 1
+    assert not ok[117:123].any() and ok[:117].all() and ok[123:].all()  # 2 links either side of the pair
+    np.testing.assert_allclose(ds.helix_ratio.values[ok], 1.0, rtol=1e-9)
+    assert 0.45 < float(ds.exponent_omega_F) < 0.6
+    assert ds.attrs["claim_holds"] == 1 and 0 < float(ds.drop_omega) < float(ds.drop_F)
+
+
+# -- Fig 1 ---------------------------------------------------------------------------------
+def test_helix_views_dataset_and_figure(tmp_path):
+    sims = {f"L{L}": simulate(Scene(L=float(L), load=0.25, k_fr=0.0, l0=1.0, tol=1e-4), progress=False)
+            for L in (10, 40)}
+    cfg = {"kind": "helix_views", "title": "t", "paper_euler_ratio": {"L10": 10}, "column_length": 15}
+    ds = postprocess.build("fig1", cfg, sims)
+    check_finite(ds)
+    # the caption's ratio: load L^2 / (pi^2 EI), 2.5 at L = 10 (the paper's 10 is for L = 20)
+    assert float(ds.euler_ratio.sel(scene="L10")) == pytest.approx(0.25 * 100 / np.pi**2, rel=1e-12)
+    assert float(ds.paper_euler_ratio.sel(scene="L10")) == 10 and float(ds.paper_euler_ratio.sel(scene="L40")) == 0
+    for n in ("L10", "L40"):
+        rho = np.hypot(ds[f"x_{n}"], ds[f"y_{n}"]).values
+        assert rho.max() < 1.0 + 1e-3  # inside the pore to the penalty's resolution
+        assert int(ds[f"contact_{n}"].sum()) == int(sims[n].contact.sum())
+    L40 = ds.sel(scene="L40")
+    assert 0 < float(L40.detached_top) < 40 and 0 < float(L40.detached_bottom) < 40
+    plotting.plot(ds, tmp_path / "f.pdf", tmp_path / "f.png")
+    assert (tmp_path / "f.png").stat().st_size > 20_000
+
+
+# -- Figs 4 / 7: the paper's printed fits, and the saddle guard -------------------------------
+def _model_sim(L=200.0, N=200, k_fr=0.8, load=0.25, contact=True):
+    s = np.linspace(0.0, L, N + 1)
+    s_link = 0.5 * (s[1:] + s[:-1])
+    F = theory.force_decay(s, load, k_fr)
+    attrs = {k: v for k, v in Scene(L=L, k_fr=k_fr, load=load, l0=L / N).to_dict().items()
+             if not isinstance(v, (tuple, type(None)))}
+    return xr.Dataset(
+        {"F_z": ("joint", -F), "contact": ("link", np.full(N, int(contact), np.int8)),
+         "phi": ("helix", np.linspace(0, 9, N)), "F_transmitted": ((), F[-1]), "converged": ((), np.int8(1))},
+        coords={"s": ("joint", s), "s_link": ("link", s_link)}, attrs={**attrs, "git_commit": "test"})
+
+
+def test_paper_fit_comparison_is_stored_both_ways():
+    """A printed fit equal to the data (the simple model is A (l0' + s)^-1 with A = 4EI/(k_fr R),
+    l0' = 4EI/(k_fr R F0)) deviates by 0; a printed fit with another l0' by a known amount."""
+    sim = _model_sim()
+    A, l0p = 4.0 / 0.8, 4.0 / (0.8 * 0.25)
+    cfg = {"kind": "force_profile", "title": "t", "paper_fits": {"same": {"A": A, "l0": l0p, "c": -1.0},
+                                                                  "other": {"A": A, "l0": 2 * l0p, "c": -1.0}}}
+    ds = postprocess.build("fig7", cfg, {"same": sim, "other": sim, "none": sim})
+    same, other, none = (ds.sel(panel=p) for p in ("same", "other", "none"))
+    assert float(same.paper_rms_log_ratio) == pytest.approx(0.0, abs=1e-9)
+    expect = float(sim.F_transmitted) / 0.25
+    for v in (same.paper_fit_fraction, same.fit_fraction, same.transmitted_fraction):
+        assert float(v) == pytest.approx(expect, rel=1e-6)
+    assert float(other.paper_fit_fraction) == pytest.approx(2 * l0p / (2 * l0p + 200.0), rel=1e-12)
+    assert float(other.paper_rms_log_ratio) > 0.1
+    assert int(none.has_paper_fit) == 0 and float(none.F_paper_fit.max()) == 0.0
+
+
+def test_a_profile_without_wall_contact_is_refused():
+    with pytest.raises(ValueError, match="saddle"):
+        postprocess.build("fig7", {"kind": "force_profile", "title": "t"}, {"x": _model_sim(contact=False)})
+
+
+# -- the paper's bending constant, as printed ---------------------------------------------------
+def test_paper_bending_constant_is_a_stiffer_rod():
+    """C = EI/l0^2 (as printed, R = 1) is the corrected C = EI_eff/l0 of a rod with
+    EI_eff = EI R/l0: the two scenes have the same discrete energy, hence the same
+    equilibrium (frictionless: unique), to the equilibrium tolerance."""
+    a = Scene(L=10.0, load=0.5, k_fr=0.0, l0=0.5, bending_constant="paper", tol=1e-6)
+    b = Scene(L=10.0, load=0.5, k_fr=0.0, l0=0.5, EI=2.0, k_ph=1000.0 * 2, k_w=1000.0 * 2,
+              friction_cap=0.1 * 2, tol=1e-6)
+    assert a.constants().C == pytest.approx(4.0) and b.constants().C == pytest.approx(4.0)
+    b = dataclasses.replace(b, k_ph=a.k_ph, k_w=a.k_w, friction_cap=a.friction_cap)
+    ra, rb = (simulate(s, progress=False) for s in (a, b))
+    np.testing.assert_allclose(ra.F_z.values, rb.F_z.values, atol=1e-5)
+    np.testing.assert_allclose(ra.x.values, rb.x.values, atol=1e-4)
+    assert int(ra.contact.sum()) == int(rb.contact.sum()) > 0
