@@ -78,8 +78,11 @@ def test_shared_scenes_are_simulated_once():
     assert pipeline.canonical_scene(config, "conv_tol", "tol5") == ("fig6_FonL", "L80")
     assert pipeline.canonical_scene(config, "conv_k_ph_frictionless", "k10000") == ("conv_l0_frictionless", "l0_05")
     sims = pipeline.expected_outputs(config)["sims"]
-    # 6 + 2 paper scenes, 18 new ladder rungs (of 23), 12 time-vs-error runs
-    assert len(sims) == len(set(sims)) == 8 + 18 + 12
+    # Fig 5 shows the rod of Fig 4(c): the same simulation, not a new run
+    assert pipeline.canonical_scene(config, "fig5_pitch", "c") == ("fig6_FonL", "L320")
+    # 6 + 2 paper scenes of Figs 6 and 4, 3 + 1 + 1 as-printed and Fig 7 scenes, 2 of Fig 1,
+    # 18 new ladder rungs (of 23), 12 time-vs-error runs
+    assert len(sims) == len(set(sims)) == 8 + 5 + 2 + 18 + 12
 
 
 def test_snakemake_stops_on_a_bad_config_before_any_job(tmp_path):
