@@ -3,8 +3,8 @@ exception or a NaN."""
 import numpy as np
 
 from confined_rod import pipeline
-from confined_rod.io import check_finite
 from confined_rod.figures.stability_map import build as stability_map
+from confined_rod.io import check_finite
 from confined_rod.stability import STATUS, probe
 
 BASE = {"L": 4.0, "l0": 0.5, "load": 0.5, "k_fr": 0.8, "t_max": 200.0}

@@ -22,7 +22,6 @@ from .model import kernels as K
 from .model.parameters import DiscreteConstants, discrete_constants
 from .quantities import QUANTITIES
 
-
 # Defaults of the numerical parameters, in units of R and EI (see docs/model.md,
 # "numerical defaults", for how they were chosen).
 DEFAULT_L0 = 0.5  # R

@@ -20,7 +20,7 @@ from ..fits import PARAMS, FitError, fit_power_law, power_law
 from ..io import variable
 from ..measure import contact_range, euler_ratio, n_turns
 from ..quantities import attrs, error_attrs, label
-from ._common import check_scene_keys, same_except, scene_coord
+from ._common import check_scene_keys, same_except
 
 _PAPER_FIT = {"type": "object", "additionalProperties": False, "required": ["A", "l0", "c"],
               "properties": {"A": {"type": "number", "exclusiveMinimum": 0},

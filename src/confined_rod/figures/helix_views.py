@@ -17,7 +17,6 @@ import numpy as np
 import xarray as xr
 
 from .. import plotting as P
-from ..errors import ConfigError
 from ..io import variable
 from ..measure import euler_ratio, n_turns
 from ..quantities import attrs
@@ -44,14 +43,15 @@ def validate(figure, fig_cfg, built) -> None:
 def caption(figure, fig_cfg, built) -> str:
     sc = next(iter(built.values()))
     Ls = " and ".join(f"{s.L:g}" for s in built.values())
+    col = float(fig_cfg.get("column_length", 40))
     return (f"Confined rods of L/R = {Ls} under the load |F_z(0)| = {sc.load:g} EI/R^2, no torque at the ends, "
-            f"k_fr = {sc.k_fr:g}, drawn as tubes in the pore (wall at x = +-R, grey), shaded by depth y (pale: "
-            f"back, dark: front). Short rods: side view (x-z) and view down the axis (x-y); long rods: wrapped "
-            f"into columns of {float(fig_cfg.get('column_length', 40)):g} R, loaded end at the top left. Red: wall "
-            "wall contacts of the detached ends that are not part of the helix (the straight tips pushing on the wall). Load / Euler force pi^2 EI/L^2 in "
-            "each panel, with the paper's printed ratio. Friction: the paper's caption states none; we show the "
-            "frictionless equilibrium, which is unique (with k_fr = 0.8 the L/R = 20 rod started from seed 0 jams "
-            "in a planar S-shape before it coils; docs/model.md).")
+            f"k_fr = {sc.k_fr:g}, drawn as tubes in the pore (wall at x = +-R, grey), shaded by depth y "
+            "(pale: back, dark: front). Short rods: side view (x-z) and view down the axis (x-y); long rods: "
+            f"wrapped into columns of {col:g} R, loaded end at the top left. Red: wall contacts of the detached "
+            "ends that are not part of the helix (the straight tips pushing on the wall). Load / Euler force "
+            "pi^2 EI/L^2 in each panel, with the paper's printed ratio. Friction: the paper's caption states "
+            "none; we show the frictionless equilibrium, which is unique (with k_fr = 0.8 the L/R = 20 rod "
+            "started from seed 0 jams in a planar S-shape before it coils; docs/model.md).")
 
 
 def _tips(contact: np.ndarray) -> np.ndarray:

@@ -131,9 +131,10 @@ def plot(ds: xr.Dataset):
     # it is never stored, and no NaN is drawn
     w_line = np.where(ok, w, np.nan)
     a.plot(s, w_line, **P.SIM, lw=1.6, label=r"simulation $|d\phi/ds|$")
-    a.plot(s, np.where(ok, ds["omega_helix"].values, np.nan), **P.MODEL, label=r"helix with the local $|F_z|$: $2EI\omega^2\sqrt{1-R^2\omega^2}"
-           r"=|F_z|$")
-    a.plot(s, np.where(ok, ds["omega_lowest"].values, np.nan), **P.PAPER, label=r"lowest order $\sqrt{|F_z|/2EI}$ (paper's Eq. dotphi)")
+    a.plot(s, np.where(ok, ds["omega_helix"].values, np.nan), **P.MODEL,
+           label=r"helix with the local $|F_z|$: $2EI\omega^2\sqrt{1-R^2\omega^2}=|F_z|$")
+    a.plot(s, np.where(ok, ds["omega_lowest"].values, np.nan), **P.PAPER,
+           label=r"lowest order $\sqrt{|F_z|/2EI}$ (paper's Eq. dotphi)")
     if ds.sizes.get("reversal_index", 0):
         top = float(np.nanmax(w_line)) * 1.08
         a.plot(ds["s_reversal"], np.full(ds.sizes["reversal_index"], top), "v", color="tab:red", ms=6,
