@@ -191,3 +191,28 @@ def test_paper_bending_constant_is_a_stiffer_rod():
     np.testing.assert_allclose(ra.F_z.values, rb.F_z.values, atol=1e-5)
     np.testing.assert_allclose(ra.x.values, rb.x.values, atol=1e-4)
     assert int(ra.contact.sum()) == int(rb.contact.sum()) > 0
+
+
+def test_new_config_entries_are_checked_before_any_work():
+    import copy
+
+    import yaml
+
+    from confined_rod import pipeline
+    from confined_rod.errors import SceneError
+
+    config = yaml.safe_load((ROOT / "config/ci.yaml").read_text())
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig4_Fonl"]["paper_fits"]["d"] = {"A": 1.0, "l0": 1.0, "c": -1.0}
+    with pytest.raises(ConfigError, match=r"fig4_Fonl\.paper_fits: 'd' is not one of its scenes"):
+        pipeline.validate(bad)
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig5_pitch"]["scenes"]["d"] = {"L": 20}
+    with pytest.raises(ConfigError, match=r"fig5_pitch\.scenes: a pitch profile shows one rod, got 2"):
+        pipeline.validate(bad)
+    bad = copy.deepcopy(config)
+    bad["figures"]["fig7_tiny_force_as_printed"]["defaults"]["bending_constant"] = "wrong"
+    with pytest.raises(ConfigError, match=r"'bending_constant': 'wrong' \(must be one of corrected, paper\)"):
+        pipeline.validate(bad)
+    with pytest.raises(SceneError, match="bending_constant"):
+        Scene(bending_constant="EI/l0^2")
