@@ -37,7 +37,7 @@ def test_scene_parameters_are_declared_once_and_agree_with_scene():
     assert set(scene_schema()["properties"]) == fields
     for q in SCENE_PARAMETERS:  # the same object serves the dataset attributes and the figure symbols
         assert QUANTITIES[q.name] is q
-        assert q.schema["description"] if "description" in q.schema else True
+        assert q.long_name and q.units  # every parameter is described and has a unit
     # categorical values: Scene accepts exactly the declared ones
     for q in SCENE_PARAMETERS:
         for v in q.choices:
@@ -66,8 +66,9 @@ def test_helix_pitch_rate_inverts_the_helix_force():
     w = np.array([1e-3, 0.1, 0.3, 0.5, 0.8])  # R w < sqrt(2/3) = 0.816
     F = theory.helix_force(w)
     np.testing.assert_allclose(theory.helix_pitch_rate(F), w, rtol=1e-9)
-    np.testing.assert_allclose(theory.helix_pitch_rate(F * 0.75 / 3.0 ** 2, R=2.0, EI=3.0 / 4.0 * 0 + 0.75),
-                               theory.helix_pitch_rate(F * 0.75 / 9.0, R=2.0, EI=0.75))
+    # scaling law: the force F EI/R^2 on a rod of stiffness EI in a pore of radius R winds at w(F)/R
+    np.testing.assert_allclose(theory.helix_pitch_rate(F * 0.75 / 2.0**2, R=2.0, EI=0.75),
+                               theory.helix_pitch_rate(F) / 2.0, rtol=1e-9)
     assert theory.helix_pitch_rate(1e-6) ** 2 == pytest.approx(1e-6 / 2, rel=1e-5)  # lowest order
     with pytest.raises(ValueError, match="largest force a helix"):
         theory.helix_pitch_rate(0.8)

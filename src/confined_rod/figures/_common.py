@@ -10,7 +10,7 @@ from ..errors import ConfigError
 from ..io import variable
 from ..quantities import attrs
 
-#: the scene parameters a kind may vary between its scenes, for _same_except
+#: the Scene field that names a scene: never compared by same_except
 SCENE_NAME = "name"
 
 
