@@ -28,9 +28,10 @@ F_C = np.pi**2 / L**2
 
 def growth_rate(load):
     sc = Scene(L=L, l0=0.5, load=load, k_fr=0.0, ends="pinned", protocol="planar",
-               perturbation=1e-4, tol=1e-300, snapshot_interval=5.0, dt_factor=0.9)
+               perturbation=1e-4, tol=1e-9, snapshot_interval=5.0, dt_factor=0.9)
     st = RunState(*sc.initial_state())
     relax(sc, st, t_end=120.0, progress=False)
+    assert not st.converged, "the growth rate needs the whole window (tol 1e-9 is out of reach)"
     times = np.asarray(st.snapshot_times)
     mode = np.array([np.sum(r[:, 0] * np.sin(np.pi * (r[:, 2] - r[0, 2]) / L)) for r in st.snapshot_r])
     late = times >= 40.0  # faster modes have decayed by then (rate >= 4 q^2 F_c t = 25)

@@ -32,8 +32,8 @@ def test_every_kind_module_has_the_interface():
 
 
 def test_scene_parameters_are_declared_once_and_agree_with_scene():
-    fields = {f.name for f in dataclasses.fields(Scene)} - {"name"}
-    assert [q.name for q in SCENE_PARAMETERS] == [f.name for f in dataclasses.fields(Scene) if f.name != "name"]
+    fields = set(Scene.field_names()) - {"name"}
+    assert [q.name for q in SCENE_PARAMETERS] == [k for k in Scene.field_names() if k != "name"]
     assert set(scene_schema()["properties"]) == fields
     for q in SCENE_PARAMETERS:  # the same object serves the dataset attributes and the figure symbols
         assert QUANTITIES[q.name] is q

@@ -57,11 +57,18 @@ def test_dx_max_is_the_accuracy_knob():
     assert errs[2] < 0.005
 
 
-def test_an_impossible_state_stops_with_a_message():
-    # a bond stiffness far too small for the load: the joints come apart
-    sc = Scene(L=10.0, load=5.0, k_fr=0.0, l0=1.0, k_ph=0.5, tol=1e-4, t_max=1e4)
+def test_an_impossible_state_stops_with_a_message(monkeypatch):
+    # a bond stiffness far too small for the load: refused up front (strain load/k_ph = 10) ...
+    from confined_rod import limits
+    from confined_rod.errors import SceneError
+
+    kw = dict(L=10.0, load=5.0, k_fr=0.0, l0=0.5, k_ph=0.5, tol=1e-4, t_max=1e4)
+    with pytest.raises(SceneError, match=r"'k_ph': 0\.5 .*load/k_ph = 10"):
+        Scene(**kw)
+    # ... and if it got through, the joints come apart during the run
+    monkeypatch.setattr(limits, "MAX_STRAIN", float("inf"))
     with pytest.raises(DivergenceError, match="scene"):
-        simulate(sc, progress=False)
+        simulate(Scene(**kw), progress=False)
 
 
 def test_a_frictionless_scene_does_no_friction_work(monkeypatch):

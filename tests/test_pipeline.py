@@ -1,7 +1,6 @@
 """Pipeline configuration (figure -> scenes -> parameters), its schema, the per-figure
 datasets and the figures. The Snakemake run itself is exercised by .ci/run."""
 import copy
-import dataclasses
 import os
 import subprocess
 import sys
@@ -36,7 +35,7 @@ def test_shipped_configs_are_valid(path):
 
 
 def test_schema_knows_exactly_the_scene_fields():
-    fields = {f.name for f in dataclasses.fields(Scene)} - {"name"}
+    fields = set(Scene.field_names()) - {"name"}
     assert set(SCHEMA["$defs"]["scene"]["properties"]) == fields
 
 

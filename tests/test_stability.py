@@ -42,6 +42,6 @@ def test_sweeps_expand_to_one_scene_per_point_and_solver():
     ds = stability_map(config["figures"]["m"], probes)
     st = dict(zip(ds.point.values, (STATUS[i] for i in ds.status.values)))
     assert st["explicit-dt_factor-3"] == "diverged" and st["explicit-dt_factor-1"] == "converged"
-    assert st["implicit-k_ph-0p3"] == "diverged"  # bonds tear apart (k_ph too small for the load)
+    assert st["implicit-k_ph-0p3"] == "invalid"  # refused: bonds would tear (k_ph too small for the load)
     assert set(ds.parameter.values) == {"base", "dt_factor", "dx_max", "k_ph"}
     assert np.all(np.isfinite(ds.F_transmitted.values))

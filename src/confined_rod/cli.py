@@ -1,7 +1,13 @@
 """Command line: ``python -m confined_rod run SCENE.yaml -o OUT.nc``.
 
-Exit status: 0 on success, 2 for invalid input (nothing is computed or written),
-3 if the run diverged (nothing is written).
+Exit status of ``run``:
+  0  equilibrium reached (or the rod escaped from the pore: a physical outcome);
+  2  invalid input: a bad scene, an output that cannot be written, a run above the
+     time budget, or the snapshot memory cap (nothing is computed, or nothing written);
+  3  the run diverged (nothing is written);
+  4  the run ended without equilibrium: time cap reached, or a final state that
+     violates the model; the dataset is written with ``status`` and its reason;
+  130 interrupted (nothing is written).
 """
 from __future__ import annotations
 
@@ -9,7 +15,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .errors import DivergenceError, SceneError
+from .errors import DivergenceError, OutputPathError, ResourceLimitError, SceneError
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -20,6 +26,9 @@ def main(argv: list[str] | None = None) -> int:
     p_run.add_argument("scene", type=Path, help="scene YAML file")
     p_run.add_argument("-o", "--output", type=Path, required=True, help="output netCDF file")
     p_run.add_argument("-q", "--quiet", action="store_true", help="no progress messages")
+    p_run.add_argument("--budget", type=float, default=None, metavar="SECONDS",
+                       help="refuse a scene whose estimated wall time exceeds this (default 3600 s; "
+                            "the estimate comes from measured runs: confined_rod.limits.estimated_wall_time)")
     p_show = sub.add_parser("show-defaults", help="print every scene field with its resolved default")
     p_show.add_argument("--R", type=float, default=1.0)
     p_show.add_argument("--EI", type=float, default=1.0)
@@ -54,13 +63,31 @@ def main(argv: list[str] | None = None) -> int:
 
         print(yaml.safe_dump(Scene(R=args.R, EI=args.EI).to_dict(), sort_keys=False), end="")
         return 0
-    try:
-        if args.output.suffix != ".nc":
-            raise SceneError(f"output file {str(args.output)!r} must end in .nc")
-        scene = Scene.from_yaml(args.scene)
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    return run(args)
+
+
+def run(args: argparse.Namespace) -> int:
+    from . import limits
+    from .io import check_output_path
+    from .scenes import Scene
+
+    def refuse(msg: str) -> int:
+        print(f"error: {msg}", file=sys.stderr)
         return 2
+
+    budget = limits.DEFAULT_BUDGET_S if args.budget is None else args.budget
+    if not budget > 0:
+        return refuse(f"invalid value for '--budget': {args.budget!r} (must be > 0 seconds)")
+    try:
+        check_output_path(args.output, suffix=".nc")
+        scene = Scene.from_yaml(args.scene)
+    except (SceneError, OutputPathError) as exc:
+        return refuse(str(exc))
+    cost = limits.estimated_wall_time(scene)
+    if cost > budget:
+        return refuse(f"scene {scene.name!r}: estimated wall time {cost:.3g} s ({scene.N} links, {scene.solver} "
+                      f"solver) exceeds the budget of {budget:g} s; pass --budget {10 ** len(str(int(cost)))} "
+                      "to run it anyway")
 
     from .io import write_dataset
     from .simulation import simulate
@@ -70,11 +97,17 @@ def main(argv: list[str] | None = None) -> int:
     except DivergenceError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 3
+    except ResourceLimitError as exc:
+        return refuse(str(exc))
+    except KeyboardInterrupt:
+        print(f"interrupted: nothing written to {args.output}", file=sys.stderr)
+        return 130
     write_dataset(ds, args.output)
-    status = "converged" if int(ds.converged) else ("escaped" if int(ds.escaped) else "NOT converged (time cap)")
-    print(f"{scene.name}: {status}; |F_z(L)| = {float(ds.F_transmitted):.6g}, L_z = {float(ds.L_z):.6g}, "
-          f"{int(ds.n_steps)} steps, {float(ds.wall_time):.1f} s -> {args.output}", file=sys.stderr)
-    return 0
+    status = ds.attrs["status"]
+    print(f"{scene.name}: {status.replace('_', ' ')} ({ds.attrs['status_reason']}); "
+          f"|F_z(L)| = {float(ds.F_transmitted):.6g}, L_z = {float(ds.L_z):.6g}, {int(ds.n_steps)} steps, "
+          f"{float(ds.wall_time):.1f} s -> {args.output}", file=sys.stderr)
+    return 0 if status in ("converged", "escaped") else 4
 
 
 if __name__ == "__main__":

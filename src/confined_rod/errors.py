@@ -10,9 +10,18 @@ class ConfigError(ValueError):
     """Invalid pipeline configuration; the message names the config path and the value."""
 
 
+class OutputPathError(ValueError):
+    """The place a result should be written to cannot take it (checked before any work)."""
+
+
+class ResourceLimitError(RuntimeError):
+    """A run would exceed a documented resource limit (memory of its snapshots);
+    the message names the parameter to change."""
+
+
 class DivergenceError(RuntimeError):
     """A run produced non-finite values or ran away. The message names the
     scene, the step and the simulated time."""
 
 
-__all__ = ["SceneError", "ConfigError", "DivergenceError"]
+__all__ = ["SceneError", "ConfigError", "DivergenceError", "OutputPathError", "ResourceLimitError"]

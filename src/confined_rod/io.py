@@ -111,16 +111,81 @@ def write_text(text: str, path: str | Path) -> Path:
 
 def _atomic(path: str | Path, write) -> Path:
     """Call write(tmp) on a temporary file in the target's folder, then rename it
-    over the target; on any error the temporary file is removed."""
+    over the target; on any error the temporary file is removed.  Temporaries left
+    by a killed writer (SIGKILL cannot be caught) are removed on the next write."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    remove_stale_temporaries(path)
+    tmp = _temporary(path, os.getpid())
     try:
         write(tmp)
         os.replace(tmp, path)
     finally:
         if tmp.exists():
             tmp.unlink()
+    return path
+
+
+def _temporary(path: Path, pid: int) -> Path:
+    return path.with_name(f".{path.name}.{pid}.tmp")
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by someone else
+        return True
+    return True
+
+
+def remove_stale_temporaries(path: str | Path) -> list[Path]:
+    """Remove ``.<name>.<pid>.tmp`` files next to ``path`` whose writer no longer runs."""
+    path = Path(path)
+    removed = []
+    prefix, suffix = f".{path.name}.", ".tmp"
+    try:
+        candidates = list(path.parent.iterdir())
+    except OSError:
+        return removed
+    for f in candidates:
+        pid = f.name[len(prefix):-len(suffix)] if f.name.startswith(prefix) and f.name.endswith(suffix) else ""
+        if pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid)):
+            with contextlib.suppress(OSError):
+                f.unlink()
+                removed.append(f)
+    return removed
+
+
+def check_output_path(path: str | Path, suffix: str | None = None) -> Path:
+    """Make sure a result can be written to ``path`` before any work is done: its
+    folder exists or can be made, is a folder, and accepts a new file; ``path`` is
+    not a folder.  Raises OutputPathError with a one-line message."""
+    from .errors import OutputPathError
+
+    path = Path(path)
+    where = f"output {str(path)!r}"
+    if path.is_dir():
+        raise OutputPathError(f"{where} is a directory; name a file inside it")
+    if suffix and path.suffix != suffix:
+        raise OutputPathError(f"{where} must end in {suffix}")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise OutputPathError(f"{where}: {str(path.parent)!r} is a file, not a directory") from None
+    except NotADirectoryError:
+        raise OutputPathError(f"{where}: a parent of it is a file, not a directory") from None
+    except OSError as exc:
+        raise OutputPathError(f"{where}: cannot create its directory ({exc.strerror})") from None
+    probe = _temporary(path, os.getpid())
+    try:
+        probe.write_bytes(b"")
+    except OSError as exc:
+        raise OutputPathError(f"{where}: cannot write in {str(path.parent)!r} ({exc.strerror})") from None
+    finally:
+        with contextlib.suppress(OSError):
+            probe.unlink()
     return path
 
 
@@ -136,3 +201,73 @@ def logged(path: str | Path):
         except BaseException:
             traceback.print_exc(file=log)
             raise
+
+
+# -- YAML input ---------------------------------------------------------------------
+def _yaml_loader(error: type[Exception], where: str):
+    """A SafeLoader that refuses duplicate keys and aliases (a 200-byte alias bomb
+    expands to gigabytes) and reads 1e-3 as the number it is (YAML 1.2), naming
+    the line of the problem."""
+    import re
+
+    import yaml
+
+    class Loader(yaml.SafeLoader):
+        def compose_node(self, parent, index):
+            if self.check_event(yaml.AliasEvent):
+                mark = self.peek_event().start_mark
+                raise error(f"{where}, line {mark.line + 1}: YAML aliases (*name) are not accepted; "
+                            "write the value out")
+            return super().compose_node(parent, index)
+
+        def construct_mapping(self, node, deep=False):
+            seen: dict[Any, int] = {}
+            for key_node, _ in node.value:
+                key = self.construct_object(key_node, deep=True)
+                try:
+                    first = seen.get(key)
+                except TypeError:
+                    raise error(f"{where}, line {key_node.start_mark.line + 1}: a key must be a plain value") from None
+                if first is not None:
+                    raise error(f"{where}, line {key_node.start_mark.line + 1}: duplicate key {key!r} (first "
+                                f"given on line {first}); each key may appear once")
+                seen[key] = key_node.start_mark.line + 1
+            return super().construct_mapping(node, deep=deep)
+
+    Loader.add_implicit_resolver("tag:yaml.org,2002:float",
+                                 re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)[eE][-+]?\d+$"), list("-+0123456789."))
+    return Loader
+
+
+def read_yaml(path: str | Path, *, what: str, error: type[Exception], max_bytes: int = 1 << 20) -> Any:
+    """Parse a YAML file strictly (see _yaml_loader); every problem raises ``error``
+    with a one-line message naming the file (and the line where YAML knows it)."""
+    import yaml
+
+    path = Path(path)
+    where = f"{what} {str(path)!r}"
+    try:
+        size = path.stat().st_size
+        if path.is_dir():
+            raise error(f"{where} is a directory, not a YAML file")
+        if size > max_bytes:
+            raise error(f"{where} has {size} bytes, more than the {max_bytes} a {what} may have")
+        text = path.read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise error(f"{where} does not exist") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{where} is not a UTF-8 text file (byte {exc.start}: {exc.reason})") from None
+    except OSError as exc:
+        raise error(f"{where} cannot be read: {exc.strerror}") from None
+    if "\x00" in text:
+        raise error(f"{where} is not a text file (it contains NUL bytes)")
+    try:
+        return yaml.load(text, Loader=_yaml_loader(error, where))  # noqa: S506 (a SafeLoader subclass)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        raise error(f"{where} is not valid YAML{line}: {exc.problem or exc.context}") from None
+    except yaml.YAMLError as exc:
+        raise error(f"{where} is not valid YAML: {str(exc).splitlines()[0]}") from None
+    except RecursionError:
+        raise error(f"{where} is nested too deeply") from None

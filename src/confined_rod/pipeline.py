@@ -133,7 +133,7 @@ def publication_value(config: dict[str, Any], figure: str) -> float | None:
     scene_defaults if set there, else the Scene default (None if the figure names no
     valid parameter: its validation says so)."""
     param = config["figures"][figure].get("parameter")
-    if param not in Scene.__dataclass_fields__:
+    if param not in Scene.field_names():
         return None
     defaults = config.get("scene_defaults") or {}
     if param in defaults:
@@ -164,7 +164,7 @@ def validate(config: dict[str, Any]) -> None:
             raise ConfigError(f"figures.{f}.kind: {kind!r} is not one of {', '.join(kinds.kinds())}")
         module = kinds.get(kind)
         if hasattr(module, "validate_config"):  # kinds whose scenes may be invalid on purpose
-            module.validate_config(f, fig, Scene.__dataclass_fields__)
+            module.validate_config(f, fig, Scene.field_names())
             continue
         if not scenes(config, f):
             raise ConfigError(f"figures.{f}.scenes: a figure needs at least one scene")

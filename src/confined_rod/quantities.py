@@ -111,6 +111,8 @@ _Q = SCENE_PARAMETERS + [
     Quantity("dphi_ds", r"d\phi/ds", "azimuthal rate along the wall-contact stretch", "rad R-1"),
     Quantity("converged", "", "run reached the residual-based equilibrium criterion", "1"),
     Quantity("escaped", "", "rod left the pore through the open entrance", "1"),
+    Quantity("status", "", "how the run ended: converged, time_cap, escaped or model_violated (reason in the "
+             "attribute 'reason')", "1"),
     Quantity("residual_force", r"\epsilon_F", "final normalised force residual max|F_i| L/(l0 load)", "1"),
     Quantity("residual_torque", r"\epsilon_M", "final normalised torque residual max|M_i| L/(l0 load R)", "1"),
     Quantity("t_final", "t_{end}", "simulated time at the end of the run", "beta_ph R4 EI-1"),

@@ -1,22 +1,27 @@
 """Scenes: physical set-up, boundary conditions, protocols and numerical settings.
 
 A :class:`Scene` is validated on construction: a bad value raises
-:class:`SceneError` naming the key and the value, before any computation.
+:class:`SceneError` naming the key, the value and the valid range, before any
+computation; so is a scene the model or float64 cannot compute (limits.py).
 Numerical defaults given as ``None`` are resolved in units of the scene's R and
-EI (so a scene in physical units gets the same discretisation relative to R).
+EI (so a scene in physical units gets the same discretisation relative to R);
+``dataclasses.replace`` re-resolves them, so ``replace(Scene(L=12), R=2.0)``
+has the l0, k_ph, ... of R = 2.
 """
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 import numbers
-import re
-from dataclasses import dataclass
+import reprlib
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from . import limits
 from .errors import SceneError
 from .model import kernels as K
 from .model.parameters import DiscreteConstants, discrete_constants
@@ -35,7 +40,7 @@ DEFAULT_T_MAX = 2e5  # beta_ph R^4/EI; explicit solver, whose cost is proportion
 DEFAULT_T_MAX_IMPLICIT = 1e9  # implicit solver: its steps grow as the rod settles, time is nearly free
 DEFAULT_DX_MAX = 0.02  # R, largest displacement of a link end per implicit step
 
-_SCI = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+$")
+MAX_SCENE_FILE_BYTES = 1 << 20
 
 # the allowed values of the categorical parameters are declared once, in quantities.py
 PROTOCOLS = QUANTITIES["protocol"].choices
@@ -118,9 +123,21 @@ class Scene:
     bending_constant: str = "corrected"
     snapshot_interval: float = 0.0
     name: str = "scene"
+    #: identifies this instance: dataclasses.replace copies it, which tells a resolved
+    #: default of the replaced scene (re-resolved) from one passed in (kept)
+    _origin: object = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         _validate(self)
+
+    @classmethod
+    def field_names(cls) -> tuple[str, ...]:
+        """The parameters of a scene (every public field)."""
+        return tuple(f.name for f in dataclasses.fields(cls) if not f.name.startswith("_"))
+
+    def given(self, key: str) -> bool:
+        """False if the value of ``key`` is a default resolved from R, EI, L or the solver."""
+        return not isinstance(getattr(self, key), _Default)
 
     # -- derived -----------------------------------------------------------
     @property
@@ -176,42 +193,62 @@ class Scene:
         r[:, 1] += rng.uniform(-1.0, 1.0, size=r.shape[0]) * self.kick
 
     def to_dict(self) -> dict[str, Any]:
-        return dataclasses.asdict(self)
+        return {k: float(v) if isinstance(v, _Default) else copy.deepcopy(v)
+                for k in self.field_names() for v in (getattr(self, k),)}
 
     # -- construction from user input ----------------------------------------
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "Scene":
         if not isinstance(data, dict):
             raise SceneError(f"a scene must be a mapping of keys to values, got {type(data).__name__}")
-        known = {f.name for f in dataclasses.fields(cls)}
+        known = set(cls.field_names())
         for key in data:
             if key not in known:
-                raise SceneError(f"unknown key {key!r} (value {data[key]!r}); known keys: {', '.join(sorted(known))}")
+                raise SceneError(f"unknown key {_short(key)} (value {_short(data[key])}); "
+                                 f"known keys: {', '.join(sorted(known))}")
         return cls(**data)
 
     @classmethod
     def from_yaml(cls, path: str | Path) -> "Scene":
-        import yaml
+        """Read a scene file: a YAML mapping of Scene fields, at most 1 MiB, without
+        duplicate keys or aliases; ``name`` defaults to the file's stem."""
+        from .io import read_yaml
 
         path = Path(path)
-        try:
-            data = yaml.safe_load(path.read_text())
-        except FileNotFoundError:
-            raise SceneError(f"scene file {str(path)!r} does not exist") from None
-        except yaml.YAMLError as exc:
-            raise SceneError(f"scene file {str(path)!r} is not valid YAML: {exc}") from None
+        data = read_yaml(path, what="scene file", error=SceneError, max_bytes=MAX_SCENE_FILE_BYTES)
         if data is None:
-            data = {}
+            raise SceneError(f"scene file {str(path)!r} is empty; give at least one key, e.g. 'L: 20' "
+                             "(python -m confined_rod show-defaults lists them all)")
         if isinstance(data, dict):
-            # PyYAML (YAML 1.1) reads 1e-3 as a string; accept it as the number it is
-            data = {k: float(v) if isinstance(v, str) and _SCI.match(v) else v for k, v in data.items()}
             data.setdefault("name", path.stem)
         return cls.from_dict(data)
 
 
+class _Default(float):
+    """A numerical default resolved from other fields (R, EI, L, solver), marked with
+    the scene it was resolved for, so that ``dataclasses.replace`` re-resolves it when
+    those fields change, while a default of another scene passed in is kept."""
+
+    def __new__(cls, value: float, origin: object):
+        obj = super().__new__(cls, value)
+        obj.origin = origin
+        return obj
+
+    def __reduce__(self):
+        return (_Default, (float(self), self.origin))
+
+
+def _short(value: Any, limit: int = 80) -> str:
+    """repr of a value for an error message, cut to ``limit`` characters."""
+    r = reprlib.Repr()
+    r.maxstring, r.maxother, r.maxlist, r.maxdict, r.maxlevel = limit, limit, 6, 6, 3
+    text = r.repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def _validate(s: Scene) -> None:
     def fail(key: str, msg: str) -> None:
-        raise SceneError(f"scene {s.name!r}: invalid value for {key!r}: {getattr(s, key)!r} ({msg})")
+        raise SceneError(f"scene {_short(s.name)}: invalid value for {key!r}: {_short(getattr(s, key))} ({msg})")
 
     def real(key: str, *, positive: bool = False, nonneg: bool = False, allow_none: bool = False) -> None:
         v = getattr(s, key)
@@ -239,8 +276,9 @@ def _validate(s: Scene) -> None:
     real("friction_cap", nonneg=True, allow_none=True)
     real("dt_factor", positive=True)
     real("tol", positive=True)
-    if isinstance(s.seed, bool) or not isinstance(s.seed, numbers.Integral) or s.seed < 0:
-        fail("seed", "must be a non-negative integer")
+    if (isinstance(s.seed, bool) or not isinstance(s.seed, numbers.Integral)
+            or not 0 <= s.seed <= limits.SEED_MAX):
+        fail("seed", f"must be an integer in [0, {limits.SEED_MAX}] (stored as a 64-bit integer)")
     for key, allowed in (("protocol", PROTOCOLS), ("ends", ENDS), ("lower_end", LOWER_END),
                          ("rotational_drag", ROTATIONAL_DRAG), ("solver", SOLVERS),
                          ("bending_constant", BENDING_CONSTANT)):
@@ -251,8 +289,11 @@ def _validate(s: Scene) -> None:
             or any(isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) for v in bf)):
         fail("body_force", "must be three finite numbers (fx, fy, fz)")
 
-    # resolve defaults in units of R and EI
-    R, EI = float(s.R), float(s.EI)
+    # resolve defaults in units of R and EI (R, EI bounded first: R**4/EI must not overflow)
+    object.__setattr__(s, "R", float(s.R))
+    object.__setattr__(s, "EI", float(s.EI))
+    limits.check_magnitudes(s, [QUANTITIES["R"], QUANTITIES["EI"]], fail)
+    R, EI = s.R, s.EI
     resolved = {
         "l0": DEFAULT_L0 * R, "k_ph": DEFAULT_K_PH * EI / R**2, "k_w": DEFAULT_K_W * EI / R**3,
         "friction_cap": DEFAULT_FRICTION_CAP * EI / R**3, "perturbation": DEFAULT_PERTURBATION * R,
@@ -260,13 +301,21 @@ def _validate(s: Scene) -> None:
         "t_max": (DEFAULT_T_MAX_IMPLICIT if s.solver == "implicit" else DEFAULT_T_MAX) * R**4 / EI,
         "pore_length": float(s.L), "dx_max": DEFAULT_DX_MAX * R,
     }
+    source, origin = s._origin, object()  # the scene replaced (None if made afresh), and this one
     for key, default in resolved.items():
-        object.__setattr__(s, key, float(default if getattr(s, key) is None else getattr(s, key)))
+        v = getattr(s, key)
+        own = v is None or (isinstance(v, _Default) and source is not None and v.origin is source)
+        object.__setattr__(s, key, _Default(default, origin) if own else float(v))
+    object.__setattr__(s, "_origin", origin)
     for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval"):
         object.__setattr__(s, key, float(getattr(s, key)))
     object.__setattr__(s, "seed", int(s.seed))
     object.__setattr__(s, "body_force", tuple(float(v) for v in bf))
 
+    limits.check_magnitudes(s, [QUANTITIES[k] for k in s.field_names() if k in QUANTITIES], fail)
+    if s.L / s.l0 > limits.MAX_LINKS:
+        fail("L", f"L/l0 = {s.L / s.l0:.3g} links exceeds the limit of {limits.MAX_LINKS} (memory and run time); "
+                  f"shorten L or raise l0 (now {s.l0:g})")
     if s.l0 > s.L:
         fail("l0", f"must not exceed L = {s.L}")
     n = s.L / s.l0
@@ -282,3 +331,4 @@ def _validate(s: Scene) -> None:
             fail(key, f"must be smaller than R = {s.R}")
     if s.pore_length < 2.0 * s.l0:
         fail("pore_length", f"the pore must hold at least two links (2 l0 = {2 * s.l0})")
+    limits.check_computable(s, fail)

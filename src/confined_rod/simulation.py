@@ -8,21 +8,39 @@ import xarray as xr
 
 from . import observables as obs
 from .io import finalize, variable
+from .limits import equilibrium_tol, state_violations
 from .scenes import Scene
 from .solvers import SOLVERS
-from .solvers.base import equilibrium_tol
+
+#: how a run ended (the dataset's ``status`` flag; ``status_reason`` says why)
+STATUS = ("converged", "time_cap", "escaped", "model_violated")
 
 
 def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     """Relax the scene to equilibrium (or escape / time cap) and return its dataset.
 
-    Raises DivergenceError if the run diverges; SceneError for bad input."""
+    A final state that violates the model (limits.state_violations: a link deep in
+    the wall or the floor, a torn bond) is never reported converged: ``status`` is
+    ``model_violated`` and ``status_reason`` says why.  Raises DivergenceError if the
+    run diverges, ResourceLimitError beyond the snapshot memory cap."""
     if not isinstance(scene, Scene):
         raise TypeError(f"simulate expects a Scene, got {type(scene).__name__}")
     t0 = time.perf_counter()
     st = SOLVERS[scene.solver](scene, progress=progress)
     wall = time.perf_counter() - t0
     o = obs.compute(scene, st.r, st.t)
+    violations = state_violations(scene, st.r, st.t)
+    if violations:
+        status, reason = "model_violated", "; ".join(violations)
+        st.converged = False
+    elif st.escaped:
+        status, reason = "escaped", f"a link end left the pore through its entrance at t = {st.time:.6g}"
+    elif st.converged:
+        status, reason = "converged", (f"equilibrium: eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} below "
+                                       f"tol = {equilibrium_tol(scene):.2e}")
+    else:
+        status, reason = "time_cap", (f"time cap t_max = {scene.t_max:.6g} reached with eps_F = {st.eps_F:.2e}, "
+                                      f"eps_M = {st.eps_M:.2e} above tol = {equilibrium_tol(scene):.2e}")
     data = {
         "F_z": variable(("joint",), o.F_z, "F_z"),
         "x": variable(("link",), o.r[:, 0], "x"),
@@ -43,6 +61,7 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         "F_transmitted": variable((), o.F_transmitted, "F_transmitted"),
         "converged": variable((), np.int8(st.converged), "converged"),
         "escaped": variable((), np.int8(st.escaped), "escaped"),
+        "status": variable((), np.int8(STATUS.index(status)), "status"),
         "residual_force": variable((), st.eps_F, "residual_force"),
         "residual_torque": variable((), st.eps_M, "residual_torque"),
         "t_final": variable((), st.time, "t_final"),
@@ -63,12 +82,15 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     for flag in ("contact", "stuck", "converged", "escaped"):
         data[flag].attrs["flag_values"] = np.array([0, 1], dtype=np.int8)
         data[flag].attrs["flag_meanings"] = "false true"
+    data["status"].attrs["flag_values"] = np.arange(len(STATUS), dtype=np.int8)
+    data["status"].attrs["flag_meanings"] = " ".join(STATUS)
+    data["status"].attrs["reason"] = reason
     ds = xr.Dataset(data, coords=coords)
     c = scene.constants()
     params = dict(scene.to_dict())
     params.update({"N": c.N, "C": c.C, "k": c.k, "k_support": c.k_support, "beta": c.beta,
                    "gamma_r": c.gamma_r, "dt": scene.dt(), "dt_stable_estimate": c.dt_stable,
-                   "tol_effective": equilibrium_tol(scene),
+                   "tol_effective": equilibrium_tol(scene), "status": status, "status_reason": reason,
                    "stage_converged": [int(v) for v in st.stage_converged]})
     title = (f"Confined elastic rod '{scene.name}': L/R = {scene.L / scene.R:g}, "
              f"load = {scene.load * scene.R**2 / scene.EI:g} EI/R^2, k_fr = {scene.k_fr:g}")

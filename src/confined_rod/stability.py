@@ -3,8 +3,10 @@
 The map that collects the points is post-processing: figures/stability_map.py.
 
 Each point either reaches equilibrium, runs into its time cap, escapes, diverges
-(:class:`DivergenceError`, with the solver's message naming step and time) or
-is rejected as an invalid scene (:class:`SceneError`, naming the parameter).
+(:class:`DivergenceError`, with the solver's message naming step and time), ends
+in a state that violates the model (a link through the wall, a torn bond), or
+is rejected as an invalid scene (:class:`SceneError`, naming the parameter:
+limits.py refuses what cannot be computed).
 Nothing is raised and nothing is NaN: the status is a flag (CF ``flag_values``)
 and the force is stored only where the run produced one (0 and ``has_force`` = 0
 otherwise).
@@ -17,12 +19,12 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from .errors import DivergenceError
+from .errors import DivergenceError, ResourceLimitError
 from .io import variable
 from .scenes import Scene, SceneError
 from .simulation import simulate
 
-STATUS = ("converged", "not_converged", "escaped", "diverged", "invalid")
+STATUS = ("converged", "not_converged", "escaped", "diverged", "invalid", "model_violated")
 STATUS_ATTRS = {"flag_values": np.arange(len(STATUS), dtype=np.int8), "flag_meanings": " ".join(STATUS)}
 
 
@@ -37,11 +39,14 @@ def probe(params: Mapping[str, Any]) -> xr.Dataset:
     else:
         try:
             ds = simulate(scene, progress=False)
-        except DivergenceError as e:
+        except (DivergenceError, ResourceLimitError) as e:
             status, message = "diverged", str(e)
         else:
             F, steps, has_force = float(ds.F_transmitted), int(ds.n_steps), 1
-            if int(ds.escaped):
+            if ds.attrs["status"] == "model_violated":
+                status, message, has_force = "model_violated", ds.attrs["status_reason"], 0
+                F = 0.0
+            elif int(ds.escaped):
                 status, message = "escaped", f"escaped from the pore at t = {float(ds.t_final):.4g}"
             elif int(ds.converged):
                 status, message = "converged", f"equilibrium at t = {float(ds.t_final):.4g} ({steps} steps)"

@@ -18,7 +18,7 @@ def same_except(figure: str, built: Mapping[str, Any], varied: tuple[str, ...], 
     """Raise ConfigError unless the scenes differ only in ``varied``."""
     ref_name, ref = next(iter(built.items()))
     for name, sc in built.items():
-        for key in type(sc).__dataclass_fields__:
+        for key in type(sc).field_names():
             if key in varied or key == SCENE_NAME:
                 continue
             if getattr(sc, key) != getattr(ref, key):

@@ -49,7 +49,7 @@ def varied(fig_cfg) -> tuple[str, ...]:
 def validate(figure, fig_cfg, built) -> None:
     p = fig_cfg.get("panel_parameter")
     sc = next(iter(built.values()))
-    if p is not None and p not in type(sc).__dataclass_fields__:
+    if p is not None and p not in type(sc).field_names():
         raise ConfigError(f"figures.{figure}.panel_parameter: {p!r} is not a Scene field")
     same_except(figure, built, varied(fig_cfg), f"the panels of a force-profile figure differ only in "
                                                 f"panel_parameter ({p!r})")

@@ -99,7 +99,7 @@ def build(fig_cfg: Mapping[str, Any], probes: Mapping[str, xr.Dataset], context=
 
 
 STATUS_COLOURS = {"converged": "#4daf4a", "not_converged": "#ffd92f", "escaped": "#80b1d3",
-                  "diverged": "#e41a1c", "invalid": "0.75"}
+                  "diverged": "#e41a1c", "invalid": "0.75", "model_violated": "#ff7f00"}
 
 
 def plot(ds: xr.Dataset):

@@ -8,8 +8,9 @@ Stopping rules (the same for every solver, so "converged" means the same thing):
   link has zero tangential residual).  eps = 1 means a force density equal to the
   load spread evenly over the rod; tol bounds the error of the force profile
   F_z(s) by tol * load;
-  The round-off floor (:func:`equilibrium_tol`) can lift the tolerance above tol
-  for long, stiff rods; the value used is stored with the run;
+  The round-off floor (limits.equilibrium_tol) can lift the tolerance above tol
+  for long, stiff rods, by at most limits.ROUNDOFF_MARGIN (larger floors are
+  refused when the scene is made); the value used is stored with the run;
 * time cap: reaching t_max ends the run with ``converged = False``;
 * escape: a link end above the open pore entrance and more than 0.1 R outside
   the pore's radius stops the run (``escaped = True``);
@@ -29,12 +30,13 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from ..errors import DivergenceError
+from .. import limits
+from ..errors import DivergenceError, ResourceLimitError
+from ..limits import equilibrium_tol, roundoff_force, snapshot_limit  # noqa: F401 (re-exported)
 from ..model import kernels as K
 from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
 
-ROUNDOFF_FACTOR = 4.0  # see roundoff_force
 PROGRESS_AFTER_S = 3.0  # report progress on stderr once a run has taken this long ...
 PROGRESS_EVERY_S = 2.0  # ... and then this often
 
@@ -57,7 +59,12 @@ class RunState:
     work: dict = field(default_factory=dict)  # solver counters (Newton iterations, rejected steps, ...)
     anchor: np.ndarray | None = None  # implicit solver: stick anchors of the links on the wall
 
-    def take_snapshot(self) -> None:
+    def take_snapshot(self, limit: int | None = None, scene_name: str = "") -> None:
+        if limit is not None and len(self.snapshot_times) >= limit:
+            raise ResourceLimitError(
+                f"scene {scene_name!r}: invalid value for 'snapshot_interval': the run reached t = {self.time:.6g} "
+                f"with {limit} snapshots stored, the memory cap of {limits.MAX_SNAPSHOT_BYTES / 2**20:g} MiB; "
+                "raise snapshot_interval (or lower t_max)")
         self.snapshot_times.append(self.time)
         self.snapshot_r.append(self.r.copy())
 
@@ -75,26 +82,6 @@ def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[fl
     fmax, mmax = K.residuals(t, ws.F, ws.M)
     scale = scene.l0 * scene.load / scene.L
     return fmax / scale, mmax / (scale * scene.R)
-
-
-def roundoff_force(scene: Scene) -> float:
-    """Residual force per link below which float64 cannot resolve a balance.
-
-    Positions up to L are representable only to about eps L, and a bond turns a
-    position error into a force k = k_ph/l0 times it; the wall and the load add
-    eps k_w R and eps load.  Measured: the implicit Newton iteration stalls at
-    1.6 eps k L (L/R = 320, k_ph = 1e4, l0 = 0.5 R), hence ROUNDOFF_FACTOR = 4."""
-    c = scene.constants()
-    return ROUNDOFF_FACTOR * np.finfo(float).eps * (c.k * scene.L + scene.k_w * scene.R + scene.load)
-
-
-def equilibrium_tol(scene: Scene) -> float:
-    """Tolerance of the equilibrium test: scene.tol, or twice the round-off floor
-    in the same normalisation (eps_F = max|F_i| L/(l0 load)) where that is larger.
-    The floor grows as L^2 k_ph/l0^2: 1.2e-4 at L/R = 640, k_ph = 1e4, l0 = 0.5 R,
-    load 0.25, where tol = 1e-5 cannot be reached in float64."""
-    scale = scene.l0 * scene.load / scene.L
-    return max(scene.tol, 2.0 * roundoff_force(scene) / scale)
 
 
 def check_state(scene: Scene, r: np.ndarray, t: np.ndarray, step: int, time: float,
@@ -117,26 +104,76 @@ def check_state(scene: Scene, r: np.ndarray, t: np.ndarray, step: int, time: flo
         raise DivergenceError(f"{where}: a link end is {rho.max():.3g} from the axis (runaway)")
 
 
+class Progress:
+    """Readable progress of a relaxation on stderr (plain lines: they go to log files).
+
+    The residual falls from its first value eps0 towards the tolerance over
+    log10(eps0/tol) decades; the fraction done is the share of those decades
+    covered by the best residual so far, and the time left is extrapolated from
+    it (elapsed x (1 - f)/f).  A frictional helix creeps slowly at the end, so
+    the estimate is a lower bound late in a run; the time cap bounds it from
+    above, and the line says which applies."""
+
+    def __init__(self, scene: Scene, tol: float, t_cap: float, label: str, enabled: bool):
+        self.name, self.tol, self.t_cap, self.enabled = f"{scene.name}{label}", tol, t_cap, enabled
+        self.t0 = self.last = _time.perf_counter()
+        self.eps0: float | None = None
+        self.best = np.inf
+        self.time0: float | None = None
+
+    def update(self, st: RunState) -> None:
+        eps = max(st.eps_F, st.eps_M)
+        if self.eps0 is None:
+            self.eps0, self.time0 = max(eps, self.tol * 10.0), st.time
+        self.best = min(self.best, eps)
+        now = _time.perf_counter()
+        if not self.enabled or now - self.t0 < PROGRESS_AFTER_S or now - self.last < PROGRESS_EVERY_S:
+            return
+        self.last = now
+        elapsed = now - self.t0
+        decades = np.log10(self.eps0 / self.tol)
+        done = float(np.clip(np.log10(self.eps0 / max(self.best, self.tol)) / decades, 0.0, 1.0))
+        left = elapsed * (1.0 - done) / done if done > 0 else np.inf
+        rate = (st.time - self.time0) / elapsed  # simulated time per second
+        to_cap = (self.t_cap - st.time) / rate if rate > 0 else np.inf
+        eta = (f"~{_duration(left)} left" if left <= to_cap
+               else f"at most {_duration(to_cap)} left (time cap t_max = {self.t_cap:.3g})")
+        print(f"[{self.name}] {100 * done:3.0f} % of {decades:.1f} residual decades (eps = {eps:.2e}, tol "
+              f"{self.tol:.1e}), t = {st.time:.4g}, {st.steps} steps, {_duration(elapsed)} elapsed, {eta}",
+              file=sys.stderr, flush=True)
+
+
+def _duration(seconds: float) -> str:
+    if not np.isfinite(seconds):
+        return "unknown"
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
 def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None = None,
           progress: bool = True, label: str = "") -> RunState:
     """Advance until equilibrium, escape, or the time cap (t_end or scene.t_max).
-    Snapshots (only if scene.snapshot_interval > 0) are taken at their exact times."""
+    Snapshots (only if scene.snapshot_interval > 0) are taken at their exact times,
+    at most limits.snapshot_limit(scene) of them (ResourceLimitError beyond)."""
     par = scene.params()
     ws = Workspace.for_links(scene.N)
     t_cap = scene.t_max if t_end is None else t_end
     snap_dt = scene.snapshot_interval
+    snap_limit = snapshot_limit(scene)
     next_snap = (st.snapshot_times[-1] + snap_dt) if (snap_dt > 0 and st.snapshot_times) else st.time
-    t0 = _time.perf_counter()
-    last_report = t0
     st.converged = False
     tol = equilibrium_tol(scene)
     if progress and tol > scene.tol:
         print(f"[{scene.name}{label}] tol = {scene.tol:.1e} is below the round-off floor of this scene "
               f"(L = {scene.L:g}, k_ph = {scene.k_ph:g}, l0 = {scene.l0:g}); equilibrium is tested at {tol:.2e}",
               file=sys.stderr, flush=True)
+    bar = Progress(scene, tol, t_cap, label, progress)
     while True:
         if snap_dt > 0 and st.time >= next_snap - 1e-12:
-            st.take_snapshot()
+            st.take_snapshot(snap_limit, scene.name)
             next_snap += snap_dt * max(1, np.floor((st.time - next_snap) / snap_dt) + 1)
         t_stop = min(t_cap, next_snap) if snap_dt > 0 else t_cap
         code = stepper.advance(st, t_stop)
@@ -144,12 +181,7 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
         st.escaped = code == K.STOP_ESCAPED
         evaluate(par, st.r, st.t, ws)
         st.eps_F, st.eps_M = normalised_residuals(scene, st.t, ws)
-        now = _time.perf_counter()
-        if progress and now - t0 > PROGRESS_AFTER_S and now - last_report > PROGRESS_EVERY_S:
-            last_report = now
-            print(f"[{scene.name}{label}] t = {st.time:.4g} / {t_cap:.4g}, steps = {st.steps}, "
-                  f"eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} (tol {tol:.1e}), "
-                  f"{now - t0:.0f} s", file=sys.stderr, flush=True)
+        bar.update(st)
         if st.escaped:
             break
         if st.eps_F < tol and st.eps_M < tol:
@@ -158,7 +190,7 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
         if st.time >= t_cap * (1 - 1e-12):
             break
     if snap_dt > 0 and (not st.snapshot_times or st.snapshot_times[-1] < st.time):
-        st.take_snapshot()
+        st.take_snapshot(snap_limit + 1, scene.name)
     st.stage_converged.append(st.converged)
     return st
 

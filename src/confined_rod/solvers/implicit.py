@@ -30,11 +30,12 @@ import numpy as np
 from scipy.linalg import LinAlgError, solveh_banded
 
 from ..errors import DivergenceError
+from ..limits import roundoff_force
 from ..model import kernels as K
 from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
 from . import implicit_kernels as IK
-from .base import RunState, roundoff_force, run_protocol
+from .base import RunState, run_protocol
 from .base import relax as _relax
 
 FD_STEP = 1e-8  # finite-difference step of the Hessian (in R for the translations, rad for the rotations)

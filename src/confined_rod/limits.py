@@ -1,0 +1,232 @@
+"""What a scene can compute: limits checked before a run and on its final state.
+
+A scene is *refused up front* (``SceneError`` naming the parameter to change and
+its valid range) when one of these limits can be computed from its parameters:
+
+* magnitudes: every dimensional parameter, in units of R and EI, lies within
+  ``[1/MAGNITUDE, MAGNITUDE]`` (and R, EI themselves within ``SCALE_RANGE``), so
+  no product of them (R^4/EI, k L, ...) over- or underflows float64;
+* size: at most ``MAX_LINKS`` links (memory and time; checked in scenes.py);
+* resolution: the shortest bending length the load can excite, the Euler
+  wavelength 2 pi sqrt(EI/load), spans at least ``MIN_LINKS_PER_WAVELENGTH`` links;
+* inextensibility: the axial strain load/k_ph is at most ``MAX_STRAIN``;
+* a hard wall: the estimated penalty penetration max(load, R load^2 l0/(8 EI))/k_w
+  (an end pressed with the full load, or a link of a helix on the wall,
+  K = R F^2/(4 EI) per length) is at most ``MAX_PENETRATION`` R;
+* round-off: float64 resolves the equilibrium to ``roundoff_tol``; a scene whose
+  floor lies more than ``ROUNDOFF_MARGIN`` times above the tol it asks for is
+  refused (within the margin the run is tested at the floor, and the floor is
+  stored as ``tol_effective``); ``tol`` itself is at most ``TOL_MAX``;
+* snapshots: the shapes it would store fit in ``MAX_SNAPSHOT_BYTES`` (where t_max
+  bounds their number).
+
+A run whose *final state* violates the model (a link end deeper than
+MAX_PENETRATION R in the wall or the floor, a bond stretched beyond
+MAX_BOND_GAP l0) ends as not converged with the reason (:func:`state_violations`).
+
+The cost of a run is estimated from measured timings (:func:`estimated_wall_time`);
+the command line refuses a scene above its budget unless told otherwise.
+"""
+from __future__ import annotations
+
+import math
+import re
+from typing import Callable
+
+import numpy as np
+
+ROUNDOFF_FACTOR = 4.0  # see roundoff_force
+ROUNDOFF_MARGIN = 100.0  # a scene's round-off floor may lie this far above its tol (it is then used instead)
+TOL_MAX = 0.1  # eps = 1 is a residual force density as large as the load spread over the rod
+MAGNITUDE = 1e12  # dimensionless parameters (in units of R, EI) within [1/MAGNITUDE, MAGNITUDE]
+SCALE_RANGE = (1e-30, 1e30)  # R and EI themselves (SI or any other unit system)
+MAX_LINKS = 100_000
+MIN_LINKS_PER_WAVELENGTH = 4.0
+MAX_STRAIN = 0.05
+MAX_PENETRATION = 0.05  # R
+MAX_BOND_GAP = 0.1  # l0, in the final state
+SEED_MAX = 2**63 - 1  # stored as a 64-bit integer
+MIN_DT_FACTOR = 1e-3
+MAX_SNAPSHOT_BYTES = 512 * 2**20
+DEFAULT_BUDGET_S = 3600.0  # command line: refuse an estimated wall time above this unless --budget says more
+
+_EPS = float(np.finfo(float).eps)
+_UNIT_TOKEN = re.compile(r"^(R|EI|beta_ph)(-?\d+)?$")
+
+Fail = Callable[[str, str], None]
+
+
+def unit_scale(units: str, R: float, EI: float) -> float | None:
+    """The scene's unit of a quantity, as a number (``'EI R-2'`` -> EI/R^2); None
+    for dimensionless or categorical units ('1', 'rad', 'mixed')."""
+    scale, dimensional = 1.0, False
+    for token in units.split():
+        m = _UNIT_TOKEN.match(token)
+        if not m:
+            return None
+        base = {"R": R, "EI": EI, "beta_ph": 1.0}[m.group(1)]
+        scale *= base ** int(m.group(2) or 1)
+        dimensional = dimensional or m.group(1) != "beta_ph"
+    return scale if dimensional else None
+
+
+# -- round-off -------------------------------------------------------------------
+def roundoff_force(scene) -> float:
+    """Residual force per link below which float64 cannot resolve a balance.
+
+    Positions up to L are representable only to about eps L, and a bond turns a
+    position error into a force k = k_ph/l0 times it; the wall and the load add
+    eps k_w R and eps load.  Measured: the implicit Newton iteration stalls at
+    1.6 eps k L (L/R = 320, k_ph = 1e4, l0 = 0.5 R), hence ROUNDOFF_FACTOR = 4."""
+    c = scene.constants()
+    return ROUNDOFF_FACTOR * _EPS * (c.k * scene.L + scene.k_w * scene.R + scene.load)
+
+
+def roundoff_tol(scene) -> float:
+    """The round-off floor in the normalisation of the equilibrium test
+    (eps_F = max|F_i| L/(l0 load)), with a factor 2 of headroom."""
+    return 2.0 * roundoff_force(scene) * scene.L / (scene.l0 * scene.load)
+
+
+def equilibrium_tol(scene) -> float:
+    """Tolerance of the equilibrium test: scene.tol, or the round-off floor where
+    that is larger (at most ROUNDOFF_MARGIN x tol: larger floors are refused).
+    The floor grows as L^2 k_ph/l0^2: 1.2e-4 at L/R = 640, k_ph = 1e4, l0 = 0.5 R,
+    load 0.25, where tol = 1e-5 cannot be reached in float64."""
+    return max(scene.tol, roundoff_tol(scene))
+
+
+# -- checks before a run -----------------------------------------------------------
+def check_magnitudes(scene, quantities, fail: Fail) -> None:
+    """Every dimensional parameter within [1/MAGNITUDE, MAGNITUDE] in the scene's units."""
+    lo, hi = SCALE_RANGE
+    for key in ("R", "EI"):
+        v = getattr(scene, key)
+        if not lo <= v <= hi:
+            fail(key, f"must lie within [{lo:g}, {hi:g}]; any unit system works, the internal units are R = EI = 1")
+    R, EI = scene.R, scene.EI
+    for q in quantities:
+        v = getattr(scene, q.name, None)
+        scale = unit_scale(q.units, R, EI)
+        if scale is None or v is None or isinstance(v, (bool, str)):
+            continue
+        values = v if isinstance(v, (tuple, list)) else (v,)
+        for x in values:
+            if x == 0:
+                continue
+            y = abs(x) / scale
+            if not 1.0 / MAGNITUDE <= y <= MAGNITUDE:
+                fail(q.name, f"{y:.3g} {q.units.replace('-', '^-')} in the scene's units R = {R:g}, EI = {EI:g}; "
+                             f"must lie within [{1 / MAGNITUDE:g}, {MAGNITUDE:g}] of them")
+
+
+def check_computable(scene, fail: Fail) -> None:
+    """The limits of the model and of float64 that follow from the parameters."""
+    R, l0, load = scene.R, scene.l0, scene.load
+    if scene.dt_factor < MIN_DT_FACTOR:
+        fail("dt_factor", f"must be >= {MIN_DT_FACTOR:g} (the explicit step would be needlessly tiny)")
+    if scene.tol > TOL_MAX:
+        fail("tol", f"must be <= {TOL_MAX:g}: eps = 1 is a residual force as large as the load spread over the "
+                    "rod, so a larger tol accepts the unrelaxed start")
+    c = scene.constants()
+    EI_eff = c.C * l0  # the bending stiffness the joints represent (EI, or EI R/l0 as printed)
+    wavelength = 2.0 * math.pi * math.sqrt(EI_eff / load)
+    if wavelength < MIN_LINKS_PER_WAVELENGTH * l0:
+        fail("load", f"bends the rod on the Euler wavelength 2 pi sqrt(EI/load) = {wavelength:.3g}, shorter than "
+                     f"{MIN_LINKS_PER_WAVELENGTH:g} links of l0 = {l0:g}: lower the load or take "
+                     f"l0 <= {wavelength / MIN_LINKS_PER_WAVELENGTH:.3g}")
+    strain = load / scene.k_ph
+    if strain > MAX_STRAIN:
+        fail("k_ph", f"the load compresses the rod by load/k_ph = {strain:.3g} > {MAX_STRAIN:g}: not an "
+                     f"inextensible rod; take k_ph >= {load / MAX_STRAIN:.3g}")
+    pressing = max(load, R * load**2 * l0 / (8.0 * EI_eff))
+    depth = pressing / scene.k_w / R
+    if depth > MAX_PENETRATION:
+        fail("k_w", f"the wall would give way by about {depth:.3g} R under the load (max(load, R load^2 l0/(8 EI))"
+                    f"/k_w), more than {MAX_PENETRATION:g} R: not a hard wall; take "
+                    f"k_w >= {pressing / (MAX_PENETRATION * R):.3g}")
+    check_roundoff(scene, fail)
+    check_snapshots(scene, fail)
+
+
+def check_roundoff(scene, fail: Fail) -> None:
+    floor = roundoff_tol(scene)
+    if floor <= ROUNDOFF_MARGIN * scene.tol:
+        return
+    c = scene.constants()
+    terms = {"k_ph": c.k * scene.L, "k_w": scene.k_w * scene.R, "load": scene.load}
+    key = max(terms, key=terms.get)
+    # the k_ph (or k_w) at which the floor would sit at the margin
+    budget = ROUNDOFF_MARGIN * scene.tol * scene.l0 * scene.load / (2.0 * ROUNDOFF_FACTOR * _EPS * scene.L)
+    if key == "k_ph":
+        bound = (budget - terms["k_w"] - terms["load"]) * scene.l0 / scene.L
+        hint = f"take k_ph <= {bound:.3g}, shorten L," if bound > 0 else "shorten L"
+    elif key == "k_w":
+        bound = (budget - terms["k_ph"] - terms["load"]) / scene.R
+        hint = f"take k_w <= {bound:.3g}" if bound > 0 else "lower k_w"
+    else:
+        hint = "change the load"
+    fail(key, f"float64 resolves this scene's equilibrium only to eps = {floor:.3g} (round-off floor), "
+              f"{floor / scene.tol:.3g} x the tol = {scene.tol:g} asked for, beyond the margin of "
+              f"{ROUNDOFF_MARGIN:g}: {hint} or raise tol to >= {floor / ROUNDOFF_MARGIN:.2g}")
+
+
+def snapshot_bytes(scene, n_snapshots: float) -> float:
+    return n_snapshots * scene.N * 3 * 8.0
+
+
+def check_snapshots(scene, fail: Fail) -> None:
+    """With an explicit time cap the number of snapshots is bounded up front (the
+    implicit solver's default cap, 1e9, bounds nothing: it is checked during the run)."""
+    if scene.snapshot_interval <= 0.0:
+        return
+    n = math.floor(scene.t_max / scene.snapshot_interval) + 2
+    size = snapshot_bytes(scene, n)
+    if size > MAX_SNAPSHOT_BYTES and (scene.solver == "explicit" or scene.given("t_max")):
+        least = scene.t_max * snapshot_bytes(scene, 1) / MAX_SNAPSHOT_BYTES
+        fail("snapshot_interval", f"t_max/snapshot_interval = {n - 2:.3g} snapshots of {scene.N} links would take "
+                                  f"{size / 2**20:.3g} MiB, more than {MAX_SNAPSHOT_BYTES / 2**20:g} MiB: raise "
+                                  f"snapshot_interval to >= {least:.3g}")
+
+
+def snapshot_limit(scene) -> int:
+    """Most snapshots a run may store (MAX_SNAPSHOT_BYTES)."""
+    return max(2, int(MAX_SNAPSHOT_BYTES // snapshot_bytes(scene, 1)))
+
+
+# -- checks of the final state ----------------------------------------------------------
+def state_violations(scene, r: np.ndarray, t: np.ndarray) -> list[str]:
+    """Ways in which a final state leaves the model's validity (empty if none)."""
+    out = []
+    h = 0.5 * scene.l0
+    ends = np.concatenate([r - h * t, r + h * t])
+    inside = ends[ends[:, 2] <= scene.pore_length]  # above the entrance there is no wall
+    depth = (np.hypot(inside[:, 0], inside[:, 1]).max() - scene.R) / scene.R if inside.size else 0.0
+    if depth > MAX_PENETRATION:
+        out.append(f"a link end lies {depth:.3g} R inside the wall (more than {MAX_PENETRATION:g} R: the penalty "
+                   f"k_w = {scene.k_w:g} is too soft for this state)")
+    if scene.floor:
+        below = -ends[:, 2].min() / scene.R
+        if below > MAX_PENETRATION:
+            out.append(f"a link end lies {below:.3g} R below the floor (more than {MAX_PENETRATION:g} R: k_w = "
+                       f"{scene.k_w:g} is too soft to hold the rod)")
+    if r.shape[0] > 1:
+        gap = np.linalg.norm((r - h * t)[1:] - (r + h * t)[:-1], axis=1).max() / scene.l0
+        if gap > MAX_BOND_GAP:
+            out.append(f"a bond is stretched by {gap:.3g} l0 (more than {MAX_BOND_GAP:g} l0: k_ph = "
+                       f"{scene.k_ph:g} is too soft)")
+    return out
+
+
+# -- cost -------------------------------------------------------------------------------
+def estimated_wall_time(scene) -> float:
+    """Rough wall time of a run on one core of the reference machine (seconds),
+    from measured runs: implicit, L/R = 640, 1280 links, k_fr = 0.8: 29 s, growing
+    as N^1.8 (frictionless runs are faster); explicit, L/R = 80 at l0 = 0.5 R,
+    k_ph = 1e3: 7 min, growing as L^2.5 and as the step shrinks (1/l0^3, 1/k_ph)."""
+    n = scene.L / scene.l0
+    if scene.solver == "implicit":
+        return 29.0 * (n / 1280.0) ** 1.8 + 1.0
+    k_rel = max(1.0, scene.k_ph * scene.R**2 / scene.EI / 1e3)
+    return 420.0 * (scene.L / scene.R / 80.0) ** 2.5 * (0.5 * scene.R / scene.l0) ** 3 * k_rel \
+        * (0.8 / scene.dt_factor) + 1.0
