@@ -29,6 +29,10 @@ def main(argv: list[str] | None = None) -> int:
     p_run.add_argument("--budget", type=float, default=None, metavar="SECONDS",
                        help="refuse a scene whose estimated wall time exceeds this (default 3600 s; "
                             "the estimate comes from measured runs: confined_rod.limits.estimated_wall_time)")
+    p_check = sub.add_parser("check-config", help="check a pipeline config as the workflow does at start-up "
+                                                  "(strict YAML with line numbers, schema, every scene), without "
+                                                  "Snakemake; exit 2 with a one-line message if it is invalid")
+    p_check.add_argument("config", type=Path, nargs="?", default=Path("config/config.yaml"))
     p_show = sub.add_parser("show-defaults", help="print every scene field with its resolved default")
     p_show.add_argument("--R", type=float, default=1.0)
     p_show.add_argument("--EI", type=float, default=1.0)
@@ -56,6 +60,9 @@ def main(argv: list[str] | None = None) -> int:
             print(text, end="")
         return 0
 
+    if args.command == "check-config":
+        return check_config(args.config)
+
     from .scenes import Scene
 
     if args.command == "show-defaults":
@@ -64,6 +71,21 @@ def main(argv: list[str] | None = None) -> int:
         print(yaml.safe_dump(Scene(R=args.R, EI=args.EI).to_dict(), sort_keys=False), end="")
         return 0
     return run(args)
+
+
+def check_config(path: Path) -> int:
+    from . import pipeline
+
+    try:
+        config = pipeline.read_config(path)
+        pipeline.check(config)
+    except pipeline.ConfigError as exc:
+        print(f"error: invalid config: {exc}", file=sys.stderr)
+        return 2
+    out = pipeline.expected_outputs(config)
+    print(f"{path}: valid; {len(pipeline.figures(config))} figures, {len(out['sims'])} simulation/probe jobs, "
+          f"{len(out['checks'])} convergence checks")
+    return 0
 
 
 def run(args: argparse.Namespace) -> int:

@@ -2,6 +2,17 @@
 from __future__ import annotations
 
 
+def shorten(value, limit: int = 80) -> str:
+    """repr of a value for an error message, cut to ``limit`` characters (a value
+    may be a huge nested structure)."""
+    import reprlib
+
+    r = reprlib.Repr()
+    r.maxstring, r.maxother, r.maxlist, r.maxdict, r.maxlevel = limit, limit, 6, 6, 3
+    text = r.repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 class SceneError(ValueError):
     """Invalid scene input. The message names the key and the offending value."""
 
@@ -24,4 +35,4 @@ class DivergenceError(RuntimeError):
     scene, the step and the simulated time."""
 
 
-__all__ = ["SceneError", "ConfigError", "DivergenceError", "OutputPathError", "ResourceLimitError"]
+__all__ = ["shorten", "SceneError", "ConfigError", "DivergenceError", "OutputPathError", "ResourceLimitError"]

@@ -204,17 +204,16 @@ def logged(path: str | Path):
 
 
 # -- YAML input ---------------------------------------------------------------------
-def _yaml_loader(error: type[Exception], where: str):
-    """A SafeLoader that refuses duplicate keys and aliases (a 200-byte alias bomb
-    expands to gigabytes) and reads 1e-3 as the number it is (YAML 1.2), naming
-    the line of the problem."""
+def _yaml_loader(error: type[Exception], where: str, aliases: bool):
+    """A SafeLoader that refuses duplicate keys and (unless ``aliases``) aliases, and
+    reads 1e-3 as the number it is (YAML 1.2), naming the line of the problem."""
     import re
 
     import yaml
 
     class Loader(yaml.SafeLoader):
         def compose_node(self, parent, index):
-            if self.check_event(yaml.AliasEvent):
+            if not aliases and self.check_event(yaml.AliasEvent):
                 mark = self.peek_event().start_mark
                 raise error(f"{where}, line {mark.line + 1}: YAML aliases (*name) are not accepted; "
                             "write the value out")
@@ -239,9 +238,30 @@ def _yaml_loader(error: type[Exception], where: str):
     return Loader
 
 
-def read_yaml(path: str | Path, *, what: str, error: type[Exception], max_bytes: int = 1 << 20) -> Any:
+def _expanded_size(node, memo: dict) -> int:
+    """Number of nodes of a composed YAML document with every alias written out
+    (a node shared by aliases counts once per use; each is computed once)."""
+    import yaml
+
+    key = id(node)
+    if key not in memo:
+        memo[key] = 1  # a recursive alias counts once
+        total = 1
+        if isinstance(node, yaml.MappingNode):
+            total += sum(_expanded_size(k, memo) + _expanded_size(v, memo) for k, v in node.value)
+        elif isinstance(node, yaml.SequenceNode):
+            total += sum(_expanded_size(v, memo) for v in node.value)
+        memo[key] = total
+    return memo[key]
+
+
+def read_yaml(path: str | Path, *, what: str, error: type[Exception], max_bytes: int = 1 << 20,
+              max_nodes: int | None = None) -> Any:
     """Parse a YAML file strictly (see _yaml_loader); every problem raises ``error``
-    with a one-line message naming the file (and the line where YAML knows it)."""
+    with a one-line message naming the file (and the line where YAML knows it).
+    Aliases are refused unless ``max_nodes`` is given; then the document with its
+    aliases written out may have at most that many nodes (a 200-byte alias bomb
+    expands to gigabytes)."""
     import yaml
 
     path = Path(path)
@@ -261,8 +281,17 @@ def read_yaml(path: str | Path, *, what: str, error: type[Exception], max_bytes:
         raise error(f"{where} cannot be read: {exc.strerror}") from None
     if "\x00" in text:
         raise error(f"{where} is not a text file (it contains NUL bytes)")
+    loader = _yaml_loader(error, where, aliases=max_nodes is not None)(text)
     try:
-        return yaml.load(text, Loader=_yaml_loader(error, where))  # noqa: S506 (a SafeLoader subclass)
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        if max_nodes is not None:
+            n = _expanded_size(node, {})
+            if n > max_nodes:
+                raise error(f"{where} expands to {n:.3g} YAML nodes with its aliases written out, more than "
+                            f"{max_nodes}")
+        return loader.construct_document(node)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -271,3 +300,5 @@ def read_yaml(path: str | Path, *, what: str, error: type[Exception], max_bytes:
         raise error(f"{where} is not valid YAML: {str(exc).splitlines()[0]}") from None
     except RecursionError:
         raise error(f"{where} is nested too deeply") from None
+    finally:
+        loader.dispose()

@@ -26,11 +26,14 @@ from pathlib import Path
 from typing import Any
 
 from . import figures as kinds
-from .errors import ConfigError, SceneError
+from .errors import ConfigError, SceneError, shorten
 from .io import logged  # noqa: F401  (re-exported for the workflow scripts)
 from .scenes import Scene
 
 RESULTS = Path("results")
+SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
+MAX_CONFIG_BYTES = 10 << 20
+MAX_CONFIG_NODES = 100_000  # with YAML aliases written out (the publication config has ~2000)
 __all__ = ["ConfigError", "validate", "caption", "context", "expected_outputs", "logged"]
 
 
@@ -150,6 +153,69 @@ def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
         out["figures"] += list(figure_paths(f))
     out["checks"] = [check_path(f) for f in convergence_figures(config)]
     return out
+
+
+# -- reading and checking a config ---------------------------------------------------------
+def read_config(path: str | Path) -> dict[str, Any]:
+    """Read a config file strictly: one-line errors with the line number, no duplicate
+    keys, aliases only up to MAX_CONFIG_NODES nodes written out (io.read_yaml)."""
+    from .io import read_yaml
+
+    data = read_yaml(path, what="config file", error=ConfigError, max_bytes=MAX_CONFIG_BYTES,
+                     max_nodes=MAX_CONFIG_NODES)
+    if not isinstance(data, dict):
+        raise ConfigError(f"config file {str(path)!r}: must be a mapping with 'figures' at the top level, got "
+                          f"{type(data).__name__}")
+    return data
+
+
+def check_schema(config: dict[str, Any], schema_path: str | Path = SCHEMA) -> None:
+    """Validate against the JSON schema; the first (most relevant) error as one line
+    naming the entry (the schema itself is never printed)."""
+    import jsonschema
+    import yaml
+
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    validator = jsonschema.Draft202012Validator(schema)
+    error = jsonschema.exceptions.best_match(validator.iter_errors(config))
+    if error is None:
+        return
+    where = ".".join(str(p) for p in error.absolute_path) or "top level"
+    if error.validator in ("additionalProperties", "unevaluatedProperties"):
+        allowed = sorted(error.schema.get("properties", {}))
+        extra = sorted(set(error.instance) - set(allowed)) if isinstance(error.instance, dict) else []
+        detail = (f"unknown key {shorten(extra[0]) if extra else '?'}"
+                  + (f"; allowed here: {', '.join(allowed)}" if allowed else ""))
+    else:
+        detail = f"{shorten(error.instance)}: {_schema_reason(error)}"
+    raise ConfigError(f"{where}: {detail}")
+
+
+def _schema_reason(error) -> str:
+    """The rule an instance broke, without repeating the (possibly huge) instance."""
+    rule = error.validator_value
+    words = {"type": "must be of type {}", "minimum": "must be >= {}", "maximum": "must be <= {}",
+             "exclusiveMinimum": "must be > {}", "exclusiveMaximum": "must be < {}",
+             "minItems": "needs at least {} items", "maxItems": "takes at most {} items",
+             "minProperties": "needs at least {} entries", "pattern": "must match {}"}
+    if error.validator in words:
+        return words[error.validator].format(rule)
+    if error.validator == "enum":
+        return "must be one of " + ", ".join(map(str, rule))
+    if error.validator == "required":
+        return "needs the keys " + ", ".join(map(str, rule))
+    return shorten(error.message, 200)
+
+
+def check(config: dict[str, Any], files: list[str | Path] = (), schema_path: str | Path = SCHEMA) -> None:
+    """Everything the workflow checks at start-up, before any job: each config file read
+    strictly, the schema, every scene built (its physics validation) and the figure-kind
+    rules.  Expands the stability maps' sweeps into scenes, in place."""
+    for f in files:
+        read_config(f)
+    check_schema(config, schema_path)
+    expand_sweeps(config)
+    validate(config)
 
 
 # -- validation, captions, build context (dispatched to the figure kind's module) -----------

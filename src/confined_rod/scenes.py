@@ -14,7 +14,6 @@ import copy
 import dataclasses
 import math
 import numbers
-import reprlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -23,6 +22,7 @@ import numpy as np
 
 from . import limits
 from .errors import SceneError
+from .errors import shorten as _short
 from .model import kernels as K
 from .model.parameters import DiscreteConstants, discrete_constants
 from .quantities import QUANTITIES
@@ -236,14 +236,6 @@ class _Default(float):
 
     def __reduce__(self):
         return (_Default, (float(self), self.origin))
-
-
-def _short(value: Any, limit: int = 80) -> str:
-    """repr of a value for an error message, cut to ``limit`` characters."""
-    r = reprlib.Repr()
-    r.maxstring, r.maxother, r.maxlist, r.maxdict, r.maxlevel = limit, limit, 6, 6, 3
-    text = r.repr(value)
-    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _validate(s: Scene) -> None:

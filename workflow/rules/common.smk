@@ -1,11 +1,18 @@
 # Shared set-up: config validation (before any job), file layout, code dependencies.
 from pathlib import Path
 
-from confined_rod import pipeline
+from confined_rod import limits, pipeline
 
-pipeline.expand_sweeps(config)  # stability maps: sweep points -> scenes
+# Before any job: each config file re-read strictly (duplicate keys, aliases, line
+# numbers), the JSON schema (workflow/schemas/config.schema.yaml, one-line errors),
+# every scene built (limits.py) and the figure-kind rules; stability maps' sweeps
+# become scenes.
 try:
-    pipeline.validate(config)
+    pipeline.check(
+        config,
+        files=workflow.configfiles,
+        schema_path=Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml",
+    )
 except pipeline.ConfigError as e:
     raise WorkflowError(f"invalid config: {e}")
 
@@ -62,10 +69,7 @@ def build_context(wildcards):
 
 
 def simulate_runtime(wildcards):
-    """Minutes, for a cluster scheduler.  Explicit solver: its measured cost grows
-    roughly as L^2.5 (benchmarks/results/core.json: L/R = 80 took 7 min).  Implicit
-    solver: seconds up to L/R = 320 (benchmarks/results/solvers.json); generous."""
+    """Minutes, for a cluster scheduler: three times the estimate from measured runs
+    (limits.estimated_wall_time), plus ten minutes."""
     sc = pipeline.build_scene(config, wildcards.figure, wildcards.scene)
-    if sc.solver == "explicit":
-        return int(10 + 8 * (sc.L / 80.0) ** 2.5 * (0.5 / sc.l0) ** 3)
-    return int(10 + 30 * (sc.L / 320.0) ** 2 * (0.5 / sc.l0) ** 2)
+    return int(10 + 3 * limits.estimated_wall_time(sc) / 60.0)
