@@ -281,8 +281,9 @@ def read_yaml(path: str | Path, *, what: str, error: type[Exception], max_bytes:
         raise error(f"{where} cannot be read: {exc.strerror}") from None
     if "\x00" in text:
         raise error(f"{where} is not a text file (it contains NUL bytes)")
-    loader = _yaml_loader(error, where, aliases=max_nodes is not None)(text)
+    loader = None
     try:
+        loader = _yaml_loader(error, where, aliases=max_nodes is not None)(text)
         node = loader.get_single_node()
         if node is None:
             return None
@@ -301,4 +302,5 @@ def read_yaml(path: str | Path, *, what: str, error: type[Exception], max_bytes:
     except RecursionError:
         raise error(f"{where} is nested too deeply") from None
     finally:
-        loader.dispose()
+        if loader is not None:
+            loader.dispose()

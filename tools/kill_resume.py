@@ -1,0 +1,148 @@
+"""Kill a build at a random job, resume it as the README says, compare with an uninterrupted build.
+
+    python tools/kill_resume.py config/ci.yaml [--seed N]
+
+Run after a complete, uninterrupted build of the same config in this checkout
+(results/ is the reference).  In a copy of the checkout's tracked files (a fresh
+results/), it starts ``snakemake --cores 2 --configfile CONFIG``, waits until a
+random number of jobs has finished (one benchmark file each), kills the whole
+build with SIGKILL, then recovers as the README says:
+
+    snakemake --unlock --configfile CONFIG     # only if the rerun reports a stale lock
+    snakemake --cores 2 --configfile CONFIG    # the profile sets --rerun-incomplete
+
+and compares every dataset (results/sims, probes, datasets) and every check
+verdict with the reference: all data variables bitwise equal except run times
+(variables named wall_time), all attributes equal except run times (names
+containing wall_time), ``history`` (a timestamp) and ``git_commit`` (the copy is
+not a git checkout).  No temporary
+file may be left.  Writes a JSON summary to stdout; exit status 1 on any difference.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+ROOT = Path(__file__).resolve().parents[1]
+SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+TIMING_VARIABLES = {"wall_time"}
+VOLATILE_ATTRS = {"history", "git_commit"}
+
+
+def tracked_copy(dest: Path) -> None:
+    files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
+    for rel in files.decode().split("\0"):
+        if rel and (ROOT / rel).is_file():
+            (dest / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(ROOT / rel, dest / rel)
+
+
+def finished_jobs(work: Path) -> int:
+    bench = work / "results" / "benchmarks"
+    return sum(1 for _ in bench.rglob("*.tsv")) if bench.exists() else 0
+
+
+def snakemake(work: Path, config: str, *extra: str) -> subprocess.CompletedProcess:
+    return subprocess.run([SNAKEMAKE, "--cores", "2", "--configfile", config, *extra], cwd=work,
+                          capture_output=True, text=True)
+
+
+def compare_dataset(a: Path, b: Path) -> list[str]:
+    diffs = []
+    with xr.open_dataset(a, decode_times=False) as x, xr.open_dataset(b, decode_times=False) as y:
+        if set(x.variables) != set(y.variables):
+            return [f"variables differ: {sorted(set(x.variables) ^ set(y.variables))}"]
+        for name in x.variables:
+            if name in TIMING_VARIABLES:
+                continue
+            u, v = x[name].values, y[name].values
+            same = (u.shape == v.shape and (np.array_equal(u, v) if u.dtype.kind in "OUS"
+                                            else u.tobytes() == v.tobytes()))
+            if not same:
+                diffs.append(f"variable {name!r} differs")
+            if x[name].attrs.keys() != y[name].attrs.keys():
+                diffs.append(f"attributes of {name!r} differ")
+        for k in set(x.attrs) | set(y.attrs):
+            if k in VOLATILE_ATTRS or "wall_time" in k:
+                continue
+            u, v = x.attrs.get(k), y.attrs.get(k)
+            if not np.array_equal(np.asarray(u), np.asarray(v)):
+                diffs.append(f"attribute {k!r}: {u!r} != {v!r}")
+    return diffs
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("config", nargs="?", default="config/ci.yaml")
+    ap.add_argument("--seed", type=int, default=None, help="random seed of the kill point (default: random)")
+    args = ap.parse_args(argv)
+    reference = ROOT / "results"
+    seed = args.seed if args.seed is not None else random.SystemRandom().randrange(2**31)
+    rng = random.Random(seed)
+    summary: dict = {"config": args.config, "seed": seed}
+    with tempfile.TemporaryDirectory(prefix="kill_resume_") as tmp:
+        work = Path(tmp)
+        tracked_copy(work)
+        planned = len(list((reference / "benchmarks").rglob("*.tsv")))
+        kill_after = rng.randrange(1, max(2, planned - 2))
+        summary["jobs_in_build"], summary["kill_after_jobs"] = planned, kill_after
+        t0 = time.perf_counter()
+        proc = subprocess.Popen([SNAKEMAKE, "--cores", "2", "--configfile", args.config], cwd=work,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+        while proc.poll() is None and finished_jobs(work) < kill_after:
+            time.sleep(0.05)
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        summary["killed_after_s"] = round(time.perf_counter() - t0, 1)
+        summary["jobs_done_when_killed"] = finished_jobs(work)
+        rerun = snakemake(work, args.config)
+        summary["rerun_without_unlock"] = "ok" if rerun.returncode == 0 else (
+            "LockException" if "LockException" in rerun.stdout + rerun.stderr else "failed")
+        if rerun.returncode != 0:
+            unlock = snakemake(work, args.config, "--unlock")
+            rerun = snakemake(work, args.config)
+            if unlock.returncode != 0 or rerun.returncode != 0:
+                print(rerun.stdout[-3000:], rerun.stderr[-3000:], file=sys.stderr)
+                summary["result"] = "resume failed"
+                print(json.dumps(summary, indent=1))
+                return 1
+        summary["resume_s"] = round(time.perf_counter() - t0 - summary["killed_after_s"], 1)
+        diffs: dict[str, list[str]] = {}
+        compared = 0
+        for sub in ("sims", "probes", "datasets"):
+            for ref in sorted((reference / sub).rglob("*.nc")):
+                rel = ref.relative_to(reference)
+                mine = work / "results" / rel
+                compared += 1
+                d = ["missing after the resumed build"] if not mine.exists() else compare_dataset(ref, mine)
+                if d:
+                    diffs[str(rel)] = d
+        for ref in sorted((reference / "checks").glob("*.txt")):
+            rel = ref.relative_to(reference)
+            mine = work / "results" / rel
+            compared += 1
+            if not mine.exists() or mine.read_text() != ref.read_text():
+                diffs[str(rel)] = ["check verdict differs"]
+        leftovers = sorted(str(p.relative_to(work)) for p in (work / "results").rglob("*.tmp"))
+        summary.update({"files_compared": compared, "differences": diffs, "leftover_temporaries": leftovers})
+        ok = compared > 0 and not diffs and not leftovers
+        summary["result"] = "identical" if ok else "DIFFERENT"
+    print(json.dumps(summary, indent=1))
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
