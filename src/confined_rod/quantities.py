@@ -11,6 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import limits
+
 
 @dataclass(frozen=True)
 class Quantity:
@@ -47,7 +49,7 @@ SCENE_PARAMETERS = [
     _param("R", "R", "radius of the confining cylinder", "R", _POS),
     _param("EI", "EI", "bending stiffness of the rod", "EI", _POS),
     _param("load", "|F_z(0)|", "compressive axial load on the upper end", "EI R-2", _POS),
-    _param("k_fr", "k_{fr}", "wall friction coefficient", "1", _NONNEG),
+    _param("k_fr", "k_{fr}", "wall friction coefficient", "1", {**_NONNEG, "maximum": limits.K_FR_MAX}),
     _param("friction_cap", "f_{cap}", "cap on the wall friction force per unit length (0 = none)", "EI R-3",
            _NONNEG_OR_DEFAULT),
     _param("body_force", r"\mathbf{f}_{ext}", "external force per unit length (fx, fy, fz) on every link", "EI R-3",
@@ -63,7 +65,8 @@ SCENE_PARAMETERS = [
            _NONNEG_OR_DEFAULT),
     _param("kick", "a_{3D}", "out-of-plane perturbation of the second stage of planar_then_3d", "R",
            _NONNEG_OR_DEFAULT),
-    _param("seed", r"\mathrm{seed}", "random seed of the perturbation", "1", {"type": "integer", "minimum": 0}),
+    _param("seed", r"\mathrm{seed}", "random seed of the perturbation", "1",
+           {"type": "integer", "minimum": 0, "maximum": limits.SEED_MAX}),
     _param("l0", "l_0", "link length", "R", _POS_OR_DEFAULT),
     _param("k_ph", "k_{ph}", "physical stretching stiffness of the rod (bond constant k = k_ph/l0)", "EI R-2",
            _POS_OR_DEFAULT),
@@ -73,8 +76,9 @@ SCENE_PARAMETERS = [
     _param("dx_max", "dx_{max}", "implicit solver: largest displacement of a link end per step", "R",
            _POS_OR_DEFAULT),
     _param("dt_factor", r"\Delta t/\Delta t_{stab}", "explicit solver: step over the estimated stability limit",
-           "1", {"type": "number", "exclusiveMinimum": 0, "maximum": 10}),
-    _param("tol", r"\mathrm{tol}", "equilibrium tolerance on the normalised force and torque residuals", "1", _POS),
+           "1", {"type": "number", "minimum": limits.MIN_DT_FACTOR, "maximum": 10}),
+    _param("tol", r"\mathrm{tol}", "equilibrium tolerance on the normalised force and torque residuals", "1",
+           {**_POS, "maximum": limits.TOL_MAX}),
     _param("t_max", "t_{max}", "cap on the simulated time", "beta_ph R4 EI-1", _POS_OR_DEFAULT),
     _param("rotational_drag", "", "rotational drag: paper (beta_ph l0 R^2) or rigid_link (beta_ph l0^3/12)", "1",
            {"enum": ["paper", "rigid_link"]}),
