@@ -207,6 +207,22 @@ def _schema_reason(error) -> str:
     return shorten(error.message, 200)
 
 
+def costly_scenes(config: dict[str, Any], budget_s: float) -> list[tuple[str, str, float]]:
+    """(figure, scene, estimated seconds) of every valid scene estimated above budget_s."""
+    from .limits import estimated_wall_time
+
+    out = []
+    for f in figures(config):
+        for s in scenes(config, f):
+            try:
+                cost = estimated_wall_time(build_scene(config, f, s))
+            except ConfigError:  # a stability map's invalid points
+                continue
+            if cost > budget_s:
+                out.append((f, s, cost))
+    return out
+
+
 def check(config: dict[str, Any], files: list[str | Path] = (), schema_path: str | Path = SCHEMA) -> None:
     """Everything the workflow checks at start-up, before any job: each config file read
     strictly, the schema, every scene built (its physics validation) and the figure-kind

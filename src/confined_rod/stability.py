@@ -39,8 +39,10 @@ def probe(params: Mapping[str, Any]) -> xr.Dataset:
     else:
         try:
             ds = simulate(scene, progress=False)
-        except (DivergenceError, ResourceLimitError) as e:
+        except DivergenceError as e:
             status, message = "diverged", str(e)
+        except ResourceLimitError as e:  # names the parameter (snapshot_interval), like a refused scene
+            status, message = "invalid", str(e)
         else:
             F, steps, has_force = float(ds.F_transmitted), int(ds.n_steps), 1
             if ds.attrs["status"] == "model_violated":

@@ -16,6 +16,15 @@ try:
 except pipeline.ConfigError as e:
     raise WorkflowError(f"invalid config: {e}")
 
+# A config is a deliberate choice: scenes above the command line's budget are run, but
+# named once here with their estimated cost (limits.estimated_wall_time).
+for _f, _s, _cost in pipeline.costly_scenes(config, limits.DEFAULT_BUDGET_S):
+    print(
+        f"note: {_f}/{_s} is estimated at {_cost / 60:.0f} min on one core "
+        f"(above the {limits.DEFAULT_BUDGET_S / 60:.0f} min budget of a single run)",
+        file=sys.stderr,
+    )
+
 
 wildcard_constraints:
     figure=r"[A-Za-z0-9_-]+",
