@@ -47,6 +47,7 @@ MAX_PENETRATION = 0.05  # R
 MAX_BOND_GAP = 0.1  # l0, in the final state
 SEED_MAX = 2**63 - 1  # stored as a 64-bit integer
 MIN_DT_FACTOR = 1e-3
+MAX_DT_FACTOR = 10.0  # explicit: stable up to ~1.2 x the Gershgorin estimate; beyond, for stress tests only
 K_FR_MAX = 1e3  # Coulomb coefficients of real surfaces are O(1); beyond this everything sticks anyway
 MAX_SNAPSHOT_BYTES = 512 * 2**20
 DEFAULT_BUDGET_S = 3600.0  # command line: refuse an estimated wall time above this unless --budget says more
@@ -126,6 +127,9 @@ def check_computable(scene, fail: Fail) -> None:
     R, l0, load = scene.R, scene.l0, scene.load
     if scene.dt_factor < MIN_DT_FACTOR:
         fail("dt_factor", f"must be >= {MIN_DT_FACTOR:g} (the explicit step would be needlessly tiny)")
+    if scene.dt_factor > MAX_DT_FACTOR:
+        fail("dt_factor", f"must be <= {MAX_DT_FACTOR:g} (fraction of the explicit stability limit; the "
+                          "scheme diverges above ~1.2, larger values exist only for stability stress tests)")
     if scene.k_fr > K_FR_MAX:
         fail("k_fr", f"must be <= {K_FR_MAX:g} (a Coulomb coefficient; at such values every contact sticks)")
     if scene.tol > TOL_MAX:

@@ -76,7 +76,7 @@ SCENE_PARAMETERS = [
     _param("dx_max", "dx_{max}", "implicit solver: largest displacement of a link end per step", "R",
            _POS_OR_DEFAULT),
     _param("dt_factor", r"\Delta t/\Delta t_{stab}", "explicit solver: step over the estimated stability limit",
-           "1", {"type": "number", "minimum": limits.MIN_DT_FACTOR, "maximum": 10}),
+           "1", {"type": "number", "minimum": limits.MIN_DT_FACTOR, "maximum": limits.MAX_DT_FACTOR}),
     _param("tol", r"\mathrm{tol}", "equilibrium tolerance on the normalised force and torque residuals", "1",
            {**_POS, "maximum": limits.TOL_MAX}),
     _param("t_max", "t_{max}", "cap on the simulated time", "beta_ph R4 EI-1", _POS_OR_DEFAULT),
