@@ -32,7 +32,7 @@ import numpy as np
 
 from .. import limits
 from ..errors import DivergenceError, ResourceLimitError
-from ..limits import equilibrium_tol, roundoff_force, snapshot_limit  # noqa: F401 (re-exported)
+from ..limits import equilibrium_tol, snapshot_limit
 from ..model import kernels as K
 from ..model.forces import Workspace, evaluate
 from ..scenes import Scene
