@@ -74,3 +74,23 @@ def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
         stuck=ws.stuck[order].astype(np.int8), s_helix=s_helix, phi=phi, dphi_ds=dphi,
         L_z=L_z, F_transmitted=float(f_floor - F_z[-1]),
     )
+
+
+def shape_measures(r: np.ndarray, R: float) -> tuple[float, float]:
+    """(deflection, out_of_plane) of a rod's link centres, in units of R.
+
+    deflection: largest distance of a centre from the straight line through the first
+    and last centres (0 for a straight rod, also one lying diagonally across the pore);
+    out_of_plane: rms distance of the centres from their best-fitting plane (0 for a
+    straight or a planar rod, of order R for a helix)."""
+    a, b = r[0], r[-1]
+    d = b - a
+    n = np.linalg.norm(d)
+    rel = r - a
+    if n > 0:
+        rel = rel - np.outer(rel @ d / n**2, d)
+    deflection = float(np.linalg.norm(rel, axis=1).max()) / R
+    centred = r - r.mean(axis=0)
+    sv = np.linalg.svd(centred, compute_uv=False)
+    out_of_plane = float(sv[-1] / np.sqrt(r.shape[0])) / R if r.shape[0] >= 3 else 0.0
+    return deflection, out_of_plane

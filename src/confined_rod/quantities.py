@@ -189,6 +189,12 @@ _Q = SCENE_PARAMETERS + [
     Quantity("drop_omega", "", "relative decrease of |dphi/ds| along the contact stretch (median of the first "
              "tenth against the last tenth)", "1"),
     Quantity("drop_F", "", "relative decrease of |F_z| along the contact stretch (same windows)", "1"),
+    # load paths and thresholds (Fig 3)
+    Quantity("deflection", r"\delta", "largest distance of a link centre from the chord through the end centres",
+             "R"),
+    Quantity("out_of_plane", r"\delta_\perp", "rms distance of the link centres from their best-fitting plane",
+             "R"),
+    Quantity("state_class", "", "shape of the equilibrium: straight, planar (buckled in a plane) or three_d", "1"),
     # Fig 1: shapes
     Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),
     Quantity("detached_top", "s_h", "length of the detached upper end (loaded end to first wall contact)", "R"),

@@ -1,0 +1,140 @@
+"""Load paths and thresholds: sequences of equilibria along the load (simulation side).
+
+A *load path* relaxes one scene at a sequence of loads, either by continuation (each
+load starts from the previous equilibrium: sweeps up or down, which can show
+hysteresis) or afresh (each load starts from the scene's own perturbed initial
+state).  Per load it keeps what a bifurcation diagram needs: L_z, the transmitted
+force, the deflection from the chord and the out-of-plane size of the shape (which
+tell straight, planar and 3-D states apart), the wall contacts and how the run ended.
+
+A *threshold* is located by bisection over the load between a load below it and one
+above it, to a stated relative precision, with a classifier of the final state.
+
+The saddle caveat applies: a run started near an unstable state can stop on it when
+the residual falls below tol before the instability has grown.  Near a threshold the
+growth rate vanishes, so a threshold found by fresh runs is resolved only to about
+tol L/(a pi^2) relative (a the perturbation): use a small tol (1e-8) for thresholds.
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable, Iterable
+
+import numpy as np
+import xarray as xr
+
+from . import observables as obs
+from .io import finalize, variable
+from .limits import equilibrium_tol
+from .scenes import Scene
+from .solvers import explicit, implicit
+from .solvers.base import RunState, relax
+
+STEPPERS = {"implicit": implicit.ImplicitStepper, "explicit": explicit.ExplicitStepper}
+MODES = ("continuation", "fresh")
+STRAIGHT_MAX = 0.05  # R: a state with a smaller deflection from its chord is straight
+PLANAR_MAX = 0.05  # R: a buckled state with a smaller rms distance from its plane is planar
+CLASSES = ("straight", "planar", "three_d")
+
+
+def classify(deflection: float, out_of_plane: float) -> str:
+    """straight, planar (buckled in a plane) or three_d (e.g. a helix), from shape_measures."""
+    if deflection < STRAIGHT_MAX:
+        return "straight"
+    return "planar" if out_of_plane < PLANAR_MAX else "three_d"
+
+
+def at_load(scene: Scene, load: float) -> Scene:
+    return dataclasses.replace(scene, load=float(load), name=f"{scene.name}@{load:g}")
+
+
+def relax_at(scene: Scene, st: RunState) -> RunState:
+    """Relax the state st under the scene (its load) with the scene's solver."""
+    st.converged, st.escaped = False, False
+    st.time, st.snapshot_times, st.snapshot_r = 0.0, [], []
+    return relax(scene, st, STEPPERS[scene.solver](scene), progress=False)
+
+
+def start(scene: Scene) -> RunState:
+    r, t = scene.initial_state()
+    return RunState(r=r, t=t)
+
+
+def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") -> xr.Dataset:
+    """Equilibria of ``scene`` at each load, in the given order (see the module doc)."""
+    if mode not in MODES:
+        raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
+    loads = [float(F) for F in loads]
+    rows: dict[str, list] = {k: [] for k in ("L_z", "F_transmitted", "deflection", "out_of_plane", "n_contact",
+                                             "converged", "escaped", "state_class", "x", "y", "z")}
+    st = None
+    for F in loads:
+        sc = at_load(scene, F)
+        if st is None or mode == "fresh":
+            st = start(sc)
+        relax_at(sc, st)
+        o = obs.compute(sc, st.r, st.t)
+        dfl, oop = obs.shape_measures(st.r, sc.R)
+        for k, v in (("L_z", o.L_z), ("F_transmitted", o.F_transmitted), ("deflection", dfl),
+                     ("out_of_plane", oop), ("n_contact", int(o.contact.sum())), ("converged", st.converged),
+                     ("escaped", st.escaped), ("state_class", CLASSES.index(classify(dfl, oop))),
+                     ("x", o.r[:, 0]), ("y", o.r[:, 1]), ("z", o.r[:, 2])):
+            rows[k].append(v)
+        if st.escaped:
+            break
+    n = len(rows["L_z"])
+    data = {k: variable(("load",), np.asarray(rows[k]), k) for k in ("L_z", "F_transmitted", "deflection",
+                                                                      "out_of_plane")}
+    data["n_contact"] = variable(("load",), np.asarray(rows["n_contact"], dtype=np.int32), "n_contact")
+    for flag in ("converged", "escaped"):
+        data[flag] = variable(("load",), np.asarray(rows[flag], dtype=np.int8), flag)
+        data[flag].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
+    data["state_class"] = variable(("load",), np.asarray(rows["state_class"], dtype=np.int8), "state_class")
+    data["state_class"].attrs.update(flag_values=np.arange(len(CLASSES), dtype=np.int8),
+                                     flag_meanings=" ".join(CLASSES))
+    for c in ("x", "y", "z"):
+        data[c] = variable(("load", "link"), np.asarray(rows[c]), c)
+    coords = {"load": variable(("load",), np.asarray(loads[:n]), "load"),
+              "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
+    ds = xr.Dataset(data, coords=coords)
+    params = dict(scene.to_dict())
+    params.update({"mode": mode, "straight_max": STRAIGHT_MAX, "planar_max": PLANAR_MAX,
+                   "tol_effective": equilibrium_tol(scene)})
+    title = (f"Load path of '{scene.name}' ({mode}): L/R = {scene.L / scene.R:g}, k_fr = {scene.k_fr:g}, "
+             f"protocol {scene.protocol}")
+    return finalize(ds, title, params)
+
+
+def bisect_threshold(scene: Scene, above: Callable[[Scene, RunState], bool], lo: float, hi: float,
+                     precision: float) -> tuple[float, float, int]:
+    """Bracket [lo, hi] of the load at which ``above(scene, final state)`` turns true,
+    narrowed by bisection until (hi - lo) <= precision * hi; each load is a fresh run.
+    Raises ValueError unless lo is below and hi above the threshold."""
+    def test(F: float) -> bool:
+        sc = at_load(scene, F)
+        st = start(sc)
+        relax_at(sc, st)
+        return above(sc, st)
+
+    n = 2
+    if test(lo) or not test(hi):
+        raise ValueError(f"scene {scene.name!r}: the loads {lo:g} and {hi:g} do not bracket the threshold")
+    while hi - lo > precision * hi:
+        mid = 0.5 * (lo + hi)
+        n += 1
+        if test(mid):
+            hi = mid
+        else:
+            lo = mid
+    return lo, hi, n
+
+
+def buckled(scene: Scene, st: RunState) -> bool:
+    """The final state is not straight (deflection from its chord above STRAIGHT_MAX)."""
+    return obs.shape_measures(st.r, scene.R)[0] >= STRAIGHT_MAX
+
+
+def three_dimensional(scene: Scene, st: RunState) -> bool:
+    """The final state is buckled out of its plane (e.g. a helix)."""
+    d, o = obs.shape_measures(st.r, scene.R)
+    return classify(d, o) == "three_d"

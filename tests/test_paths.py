@@ -1,0 +1,67 @@
+"""Load paths and thresholds (groundwork of Fig 3).
+
+The straight branch: with both ends free sideways, a straight rod under an axial load
+is neutral to tilting only without a wall; the couple F L sin(theta) of the load and
+the support tilts it until both ends touch the wall, so the straight rod lies
+diagonally across the pore, L_z = sqrt(L^2 - 4 R^2) (less the compression F L/k_ph).
+
+The first threshold: the diagonal rod is compressed along its own axis by the load
+and the wall forces at its ends, N = F tan(theta), together F/cos(theta).  It buckles
+when that reaches Euler's load for free-free (= pinned-pinned) lateral conditions,
+pi^2 EI/L^2, i.e. at F_1 = (pi^2 EI/L^2) cos(theta), cos(theta) = sqrt(1 - 4R^2/L^2);
+for the discrete rod (C = EI/l0) pi^2/L^2 becomes (4/l0^2) sin^2(pi l0/(2L)).
+"""
+import numpy as np
+import pytest
+
+from confined_rod import observables as obs
+from confined_rod import paths
+from confined_rod.scenes import Scene
+
+L, L0 = 10.0, 0.5
+COS = np.sqrt(1 - 4.0 / L**2)
+F1_DISCRETE = 4.0 / L0**2 * np.sin(np.pi * L0 / (2 * L)) ** 2 * COS  # EI = R = 1
+
+
+def base(**kw):
+    return Scene(**{"L": L, "l0": L0, "k_fr": 0.0, "protocol": "planar", "k_ph": 1e4, "tol": 1e-8, "seed": 1,
+                    "name": "path", **kw})
+
+
+def test_shape_measures_tell_straight_planar_and_helical_apart():
+    s = np.linspace(0, 10, 21)
+    line = np.stack([0.2 * s - 1, 0 * s, s], 1)  # straight, tilted
+    assert obs.shape_measures(line, 1.0) == pytest.approx((0.0, 0.0), abs=1e-12)
+    wave = np.stack([0.7 * np.sin(np.pi * s / 10), 0 * s, s], 1)  # planar arc of amplitude 0.7
+    d, o = obs.shape_measures(wave, 1.0)
+    assert d == pytest.approx(0.7, rel=1e-9) and o == pytest.approx(0.0, abs=1e-12)
+    helix = np.stack([np.cos(s), np.sin(s), s], 1)  # 1.6 turns of radius 1
+    d, o = obs.shape_measures(helix, 1.0)
+    assert o > 0.3 and paths.classify(d, o) == "three_d"
+    assert paths.classify(*obs.shape_measures(wave, 1.0)) == "planar"
+
+
+def test_the_straight_branch_lies_diagonally_across_the_pore():
+    ds = paths.load_path(base(), [0.02, 0.05, 0.08])
+    assert list(ds.state_class.values) == [paths.CLASSES.index("straight")] * 3
+    assert np.all(ds.converged.values == 1)
+    # compression F L/k_ph <= 1e-4 here; L_z falls with F at that rate
+    np.testing.assert_allclose(ds.L_z.values, np.sqrt(L**2 - 4.0) * (1 - ds["load"].values / 1e4), atol=2e-5)
+
+
+def test_first_threshold_is_eulers_load_of_the_tilted_rod():
+    lo, hi, n = paths.bisect_threshold(base(), paths.buckled, 0.05, 0.2, 1e-3)
+    assert hi - lo <= 1e-3 * hi and n < 20
+    # resolution of fresh runs at tol 1e-8, perturbation 1e-3 R: ~tol L/(a pi^2) = 1e-5 relative
+    assert lo - 2e-5 * F1_DISCRETE <= F1_DISCRETE <= hi + 2e-5 * F1_DISCRETE
+    assert hi < F1_DISCRETE / COS  # the tilt correction (2 %) is resolved, not just Euler's load
+
+
+def test_continuation_down_from_the_buckled_branch_returns_straight():
+    """Frictionless, the first transition has no hysteresis: sweeping the load down from
+    a buckled state straightens the rod again below the threshold."""
+    loads = [0.2, 0.15, 0.12, 0.9 * F1_DISCRETE, 0.5 * F1_DISCRETE]
+    ds = paths.load_path(base(), loads, mode="continuation")
+    classes = [paths.CLASSES[c] for c in ds.state_class.values]
+    assert classes[:3] == ["planar"] * 3 and classes[-1] == "straight"
+    assert np.all(np.diff(ds.L_z.values) > 0)  # the rod lengthens along the axis as the load falls
