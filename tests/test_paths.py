@@ -65,3 +65,46 @@ def test_continuation_down_from_the_buckled_branch_returns_straight():
     classes = [paths.CLASSES[c] for c in ds.state_class.values]
     assert classes[:3] == ["planar"] * 3 and classes[-1] == "straight"
     assert np.all(np.diff(ds.L_z.values) > 0)  # the rod lengthens along the axis as the load falls
+
+
+@pytest.mark.parametrize("aspect, lo_ratio", [(20.0, 3.8), (40.0, 3.9)])
+def test_second_threshold_is_the_second_euler_mode(aspect, lo_ratio):
+    """Planar to 3-D (planar_then_3d, frictionless): once the buckled arc rests on the
+    wall at mid-span its two halves are columns of length L/2, which buckle again (out
+    of the plane) at pi^2 EI/(L/2)^2 = 4 F_E.  Measured: 3.69, 3.93, 3.98 F_E at
+    L/R = 10, 20, 40 (the tilt and the arc's own excursion lower it at small L/R); it
+    depends on R only through L/R (F_2 R^2/EI the same for R = 1 and 2)."""
+    def f2(R):
+        sc = Scene(L=aspect * R, R=R, k_fr=0.0, protocol="planar_then_3d", tol=1e-7, seed=1, k_ph=1e4 / R**2)
+        guess = 4 * np.pi**2 / (aspect * R) ** 2
+        lo, hi, _ = paths.bisect_threshold(sc, paths.three_dimensional, 0.6 * guess, 1.2 * guess, 1e-2)
+        return 0.5 * (lo + hi), hi - lo
+
+    F2, width = f2(1.0)
+    F_E = np.pi**2 / aspect**2
+    assert lo_ratio * F_E < F2 < 4.0 * F_E + width
+    if aspect == 20.0:
+        F2_R2, _ = f2(2.0)
+        assert F2_R2 * 4 == pytest.approx(F2, rel=1e-2)  # F_2 R^2/EI depends only on L/R
+
+
+def test_a_defect_is_found_in_a_helix_with_one_reversal_and_none_in_a_clean_one():
+    """Helices on the wall built link by link: phi(s) winds one way, then (with a
+    defect at s = 12.25) the other; the contact-stretch rate dphi/ds as the simulator
+    computes it (np.gradient of the unwrapped azimuth)."""
+    from confined_rod.measure import defects
+
+    s = (np.arange(60) + 0.5) * 0.5
+    omega = 0.7
+    clean = omega * s
+    rng = np.random.default_rng(3)
+    noisy = clean + rng.normal(scale=0.02, size=s.size)  # wobble of the link centres
+    assert defects(s, np.gradient(np.unwrap(clean), s)).size == 0
+    assert defects(s, np.gradient(np.unwrap(noisy), s)).size == 0
+    kinked = np.where(s < 12.25, omega * s, omega * (24.5 - s))
+    d = defects(s, np.gradient(kinked, s))
+    assert d.size == 1 and abs(d[0] - 12.25) <= 0.5  # located to a link length
+    # a one-link flicker of the sense is not a defect
+    flicker = np.gradient(clean, s)
+    flicker[30] *= -1
+    assert defects(s, flicker).size == 0

@@ -62,3 +62,31 @@ def handedness_reversals(dphi_ds: np.ndarray) -> np.ndarray:
     contact stretch (a reversal of handedness, or perversion)."""
     sign = np.sign(dphi_ds)
     return np.flatnonzero(sign[1:] * sign[:-1] < 0)
+
+
+def defects(s: np.ndarray, dphi_ds: np.ndarray, min_links: int = 3,
+            min_rate: float = 0.0) -> np.ndarray:
+    """Arc lengths of the defects of a helix: reversals of handedness between two
+    stretches of at least ``min_links`` links winding in opposite senses.
+
+    A flicker of the sign of dphi/ds over fewer links (round-off where the rod is
+    nearly straight, one link crossing a wall contact) is not a defect: runs of one
+    sign shorter than min_links are merged into their neighbours first.  Points with
+    |dphi/ds| <= min_rate count as no sense at all.  The position of a defect is the
+    midpoint between the last point of one sense and the first of the other."""
+    sense = np.where(np.abs(dphi_ds) > min_rate, np.sign(dphi_ds), 0.0)
+    keep = sense != 0
+    s, sense = np.asarray(s)[keep], sense[keep]
+    if sense.size == 0:
+        return np.zeros(0)
+    # runs of one sense: (start index, length, sign)
+    edges = np.flatnonzero(np.diff(sense) != 0) + 1
+    starts = np.concatenate([[0], edges])
+    lengths = np.diff(np.concatenate([starts, [sense.size]]))
+    signs = sense[starts]
+    long_runs = [(i, n, sg) for i, n, sg in zip(starts, lengths, signs) if n >= min_links]
+    out = []
+    for (i0, n0, s0), (i1, _, s1) in zip(long_runs[:-1], long_runs[1:]):
+        if s0 != s1:
+            out.append(0.5 * (s[i0 + n0 - 1] + s[i1]))
+    return np.asarray(out)

@@ -2,10 +2,11 @@
 
 A *load path* relaxes one scene at a sequence of loads, either by continuation (each
 load starts from the previous equilibrium: sweeps up or down, which can show
-hysteresis) or afresh (each load starts from the scene's own perturbed initial
-state).  Per load it keeps what a bifurcation diagram needs: L_z, the transmitted
-force, the deflection from the chord and the out-of-plane size of the shape (which
-tell straight, planar and 3-D states apart), the wall contacts and how the run ended.
+hysteresis; the first load runs the scene's protocol) or afresh (each load runs the
+scene's protocol from its own perturbed initial state).  Per load it keeps what a
+bifurcation diagram needs: L_z, the transmitted force, the deflection from the chord
+and the out-of-plane size of the shape (which tell straight, planar and 3-D states
+apart), the wall contacts, how the run ended, and the shape (a few dozen numbers).
 
 A *threshold* is located by bisection over the load between a load below it and one
 above it, to a stated relative precision, with a classifier of the final state.
@@ -28,7 +29,7 @@ from .io import finalize, variable
 from .limits import equilibrium_tol
 from .scenes import Scene
 from .solvers import explicit, implicit
-from .solvers.base import RunState, relax
+from .solvers.base import RunState, relax, run_protocol
 
 STEPPERS = {"implicit": implicit.ImplicitStepper, "explicit": explicit.ExplicitStepper}
 MODES = ("continuation", "fresh")
@@ -55,9 +56,10 @@ def relax_at(scene: Scene, st: RunState) -> RunState:
     return relax(scene, st, STEPPERS[scene.solver](scene), progress=False)
 
 
-def start(scene: Scene) -> RunState:
-    r, t = scene.initial_state()
-    return RunState(r=r, t=t)
+def fresh(scene: Scene) -> RunState:
+    """The scene's protocol from its own perturbed initial state (both stages of
+    planar_then_3d)."""
+    return run_protocol(scene, STEPPERS[scene.solver], progress=False)
 
 
 def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") -> xr.Dataset:
@@ -71,8 +73,9 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
     for F in loads:
         sc = at_load(scene, F)
         if st is None or mode == "fresh":
-            st = start(sc)
-        relax_at(sc, st)
+            st = fresh(sc)
+        else:
+            relax_at(sc, st)
         o = obs.compute(sc, st.r, st.t)
         dfl, oop = obs.shape_measures(st.r, sc.R)
         for k, v in (("L_z", o.L_z), ("F_transmitted", o.F_transmitted), ("deflection", dfl),
@@ -112,9 +115,7 @@ def bisect_threshold(scene: Scene, above: Callable[[Scene, RunState], bool], lo:
     Raises ValueError unless lo is below and hi above the threshold."""
     def test(F: float) -> bool:
         sc = at_load(scene, F)
-        st = start(sc)
-        relax_at(sc, st)
-        return above(sc, st)
+        return above(sc, fresh(sc))
 
     n = 2
     if test(lo) or not test(hi):
