@@ -108,3 +108,62 @@ def test_a_defect_is_found_in_a_helix_with_one_reversal_and_none_in_a_clean_one(
     flicker = np.gradient(clean, s)
     flicker[30] *= -1
     assert defects(s, flicker).size == 0
+
+
+# -- the figure kind (Fig 3) ------------------------------------------------------------------
+FIG3 = {"kind": "bifurcation", "loads": {"min": 0.05, "max": 0.5, "n": 5}, "precision": 0.05,
+        "defaults": {"L": 10, "k_fr": 0.0, "k_ph": 100.0, "tol": 1e-7, "perturbation": 0.01, "seed": 1},
+        "scenes": {"up": {"protocol": "straight"}, "fresh": {"protocol": "planar_then_3d"}, "thr": {}},
+        "runs": {"up": "up", "fresh": "fresh", "thr": "thresholds"}}
+
+
+def test_bifurcation_config_is_checked_before_any_work():
+    import copy
+
+    from confined_rod import pipeline
+    from confined_rod.errors import ConfigError
+
+    def check(fig):
+        pipeline.validate({"figures": {"fig3": fig}})
+
+    check(copy.deepcopy(FIG3))
+    bad = copy.deepcopy(FIG3)
+    del bad["runs"]["fresh"]
+    with pytest.raises(ConfigError, match=r"fig3\.runs: no run given for the scene\(s\) fresh"):
+        check(bad)
+    bad = copy.deepcopy(FIG3)
+    bad["scenes"]["thr"] = {"k_fr": 0.8}
+    with pytest.raises(ConfigError, match=r"scenes\.thr: k_fr = 0\.8; thresholds are defined frictionless"):
+        check(bad)
+    bad = copy.deepcopy(FIG3)
+    bad["scenes"]["fresh"]["L"] = 12
+    with pytest.raises(ConfigError, match=r"fig3\.scenes\.fresh: L = 12"):
+        check(bad)
+    bad = copy.deepcopy(FIG3)
+    bad["loads"]["min"] = 1e-4  # the round-off floor grows as 1/load: tol 1e-9 is out of reach there
+    bad["defaults"]["tol"] = 1e-9
+    with pytest.raises(ConfigError, match=r"scenes\.up at load 0\.0001 \(a load its run visits\).*'k_ph'"):
+        check(bad)
+
+
+def test_bifurcation_dataset_and_figure_from_real_runs():
+    from confined_rod import pipeline
+    from confined_rod.figures import bifurcation
+    from confined_rod.io import check_finite
+
+    config = {"figures": {"fig3": FIG3}}
+    sims = {n: paths.run_spec(pipeline.build_scene(config, "fig3", n), pipeline.path_spec(config, "fig3", n))
+            for n in pipeline.scenes(config, "fig3")}
+    ds = bifurcation.build(FIG3, sims)
+    check_finite(ds)
+    lo, hi = ds.attrs["first_threshold"]
+    F1 = bifurcation.theory.first_threshold(10.0, 1.0, 0.5, 1.0)
+    assert lo <= F1 <= hi and hi - lo <= 0.05 * hi
+    assert ds.L_z.dims == ("branch", "load") and ds.L_z.shape == (2, 5)
+    # up and fresh agree frictionless (no hysteresis between them), class by class
+    assert np.array_equal(ds.state_class.values[0], ds.state_class.values[1])
+    import matplotlib
+
+    matplotlib.use("Agg")
+    fig = bifurcation.plot(ds)
+    assert len(fig.axes) == 2

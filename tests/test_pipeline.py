@@ -80,8 +80,9 @@ def test_shared_scenes_are_simulated_once():
     # Fig 5 shows the rod of Fig 4(c): the same simulation, not a new run
     assert pipeline.canonical_scene(config, "fig5_pitch", "c") == ("fig6_FonL", "L320")
     # 6 + 2 paper scenes of Figs 6 and 4, 3 + 1 + 1 as-printed and Fig 7 scenes, 2 of Fig 1,
-    # 18 new ladder rungs (of 23), 12 time-vs-error runs
-    assert len(sims) == len(set(sims)) == 8 + 5 + 2 + 18 + 12
+    # 18 new ladder rungs (of 23), 12 time-vs-error runs, 9 load-path jobs of Fig 3 (own files)
+    assert len(sims) == len(set(sims)) == 8 + 5 + 2 + 18 + 12 + 9
+    assert sum(p.startswith("results/paths/fig3_bifurcation/") for p in sims) == 9
 
 
 def test_snakemake_stops_on_a_bad_config_before_any_job(tmp_path):

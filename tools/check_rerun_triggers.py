@@ -25,18 +25,24 @@ SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 # (a figure kind's module holds its dataset builder and its plot: editing it re-runs that
 # kind's datasets and figures, never a simulation)
 PROBES = {
-    PKG / "plotting.py": ({"figure"}, {"simulate", "probe", "postprocess"}),
-    PKG / "fits.py": ({"postprocess", "figure"}, {"simulate", "probe"}),
-    PKG / "measure.py": ({"postprocess", "figure"}, {"simulate", "probe"}),
-    PKG / "figures" / "force_profile.py": ({"postprocess", "figure"}, {"simulate", "probe", "convergence_check"}),
-    PKG / "figures" / "pitch_profile.py": ({"postprocess", "figure"}, {"simulate", "probe", "convergence_check"}),
-    PKG / "figures" / "convergence.py": ({"postprocess", "convergence_check", "figure"}, {"simulate", "probe"}),
+    PKG / "plotting.py": ({"figure"}, {"simulate", "probe", "load_path", "postprocess"}),
+    PKG / "fits.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
+    PKG / "measure.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
+    PKG / "figures" / "force_profile.py": ({"postprocess", "figure"},
+                                           {"simulate", "probe", "load_path", "convergence_check"}),
+    PKG / "figures" / "pitch_profile.py": ({"postprocess", "figure"},
+                                           {"simulate", "probe", "load_path", "convergence_check"}),
+    PKG / "figures" / "bifurcation.py": ({"postprocess", "figure"},
+                                         {"simulate", "probe", "load_path", "convergence_check"}),
+    PKG / "figures" / "convergence.py": ({"postprocess", "convergence_check", "figure"},
+                                         {"simulate", "probe", "load_path"}),
+    PKG / "paths.py": ({"load_path"}, set()),
     PKG / "model" / "kernels.py": ({"simulate", "postprocess", "figure"}, set()),
     PKG / "solvers" / "explicit.py": ({"simulate"}, set()),
     PKG / "solvers" / "implicit.py": ({"simulate"}, set()),
 }
 # how many figures a one-kind edit may re-run at most (the kind's own figures, not all)
-ONE_KIND = {PKG / "figures" / "pitch_profile.py": 1}
+ONE_KIND = {PKG / "figures" / "pitch_profile.py": 1, PKG / "figures" / "bifurcation.py": 1}
 
 
 def planned_rules(config: str) -> dict[str, int]:

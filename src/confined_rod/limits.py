@@ -135,8 +135,7 @@ def check_computable(scene, fail: Fail) -> None:
     if scene.tol > TOL_MAX:
         fail("tol", f"must be <= {TOL_MAX:g}: eps = 1 is a residual force as large as the load spread over the "
                     "rod, so a larger tol accepts the unrelaxed start")
-    c = scene.constants()
-    EI_eff = c.C * l0  # the bending stiffness the joints represent (EI, or EI R/l0 as printed)
+    EI_eff = scene.C_l0()  # the bending stiffness the joints represent (EI, or EI R/l0 as printed)
     wavelength = 2.0 * math.pi * math.sqrt(EI_eff / load)
     if wavelength < MIN_LINKS_PER_WAVELENGTH * l0:
         fail("load", f"bends the rod on the Euler wavelength 2 pi sqrt(EI/load) = {wavelength:.3g}, shorter than "

@@ -1,8 +1,8 @@
 """Load paths and thresholds: sequences of equilibria along the load (simulation side).
 
 A *load path* relaxes one scene at a sequence of loads, either by continuation (each
-load starts from the previous equilibrium: sweeps up or down, which can show
-hysteresis; the first load runs the scene's protocol) or afresh (each load runs the
+load starts from the previous equilibrium, nudged by the scene's perturbation: sweeps
+up or down, which can show hysteresis; the first load runs the scene's protocol) or afresh (each load runs the
 scene's protocol from its own perturbed initial state).  Per load it keeps what a
 bifurcation diagram needs: L_z, the transmitted force, the deflection from the chord
 and the out-of-plane size of the shape (which tell straight, planar and 3-D states
@@ -25,6 +25,7 @@ import numpy as np
 import xarray as xr
 
 from . import observables as obs
+from . import theory
 from .io import finalize, variable
 from .limits import equilibrium_tol
 from .scenes import Scene
@@ -56,6 +57,18 @@ def relax_at(scene: Scene, st: RunState) -> RunState:
     return relax(scene, st, STEPPERS[scene.solver](scene), progress=False)
 
 
+def nudge(scene: Scene, st: RunState, step: int) -> None:
+    """Continuation: displace the link centres of the previous equilibrium by the scene's
+    perturbation (seeded per load step; in x only for the planar protocol), so that an
+    equilibrium that has become unstable is left rather than tracked: without it the
+    sweep stays on a saddle, whose instability grows from round-off only."""
+    rng = np.random.default_rng([scene.seed, 2, step])
+    d = rng.uniform(-1.0, 1.0, size=(scene.N, 2)) * scene.perturbation
+    st.r[:, 0] += d[:, 0]
+    if scene.protocol != "planar":
+        st.r[:, 1] += d[:, 1]
+
+
 def fresh(scene: Scene) -> RunState:
     """The scene's protocol from its own perturbed initial state (both stages of
     planar_then_3d)."""
@@ -75,6 +88,7 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
         if st is None or mode == "fresh":
             st = fresh(sc)
         else:
+            nudge(sc, st, len(rows["L_z"]))
             relax_at(sc, st)
         o = obs.compute(sc, st.r, st.t)
         dfl, oop = obs.shape_measures(st.r, sc.R)
@@ -83,8 +97,6 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
                      ("escaped", st.escaped), ("state_class", CLASSES.index(classify(dfl, oop))),
                      ("x", o.r[:, 0]), ("y", o.r[:, 1]), ("z", o.r[:, 2])):
             rows[k].append(v)
-        if st.escaped:
-            break
     n = len(rows["L_z"])
     data = {k: variable(("load",), np.asarray(rows[k]), k) for k in ("L_z", "F_transmitted", "deflection",
                                                                       "out_of_plane")}
@@ -139,3 +151,45 @@ def three_dimensional(scene: Scene, st: RunState) -> bool:
     """The final state is buckled out of its plane (e.g. a helix)."""
     d, o = obs.shape_measures(st.r, scene.R)
     return classify(d, o) == "three_d"
+
+
+# -- what a figure asks of one scene (the pipeline's rule `load_path`) ---------------------
+RUNS = ("up", "down", "fresh", "thresholds")
+
+
+def thresholds(scene: Scene, precision: float) -> xr.Dataset:
+    """Both thresholds by bisection with fresh runs: the first (straight -> buckled,
+    protocol planar, classifier buckled), the second (planar -> 3-D, protocol
+    planar_then_3d, classifier three_dimensional), from the brackets of
+    theory.threshold_brackets (a bracket that does not hold raises ValueError)."""
+    br = theory.threshold_brackets(scene.L, scene.C_l0())
+    out = {}
+    for name, protocol, above in (("first", "planar", buckled), ("second", "planar_then_3d", three_dimensional)):
+        sc = dataclasses.replace(scene, protocol=protocol)
+        out[name] = bisect_threshold(sc, above, *br[name], precision)
+    names = list(out)
+    data = {
+        "threshold_lo": variable(("threshold",), [out[n][0] for n in names], "threshold_lo"),
+        "threshold_hi": variable(("threshold",), [out[n][1] for n in names], "threshold_hi"),
+        "threshold_runs": variable(("threshold",), np.array([out[n][2] for n in names], dtype=np.int32),
+                                   "threshold_runs"),
+    }
+    ds = xr.Dataset(data, coords={"threshold": variable(("threshold",), np.array(names, dtype=object),
+                                                        "threshold")})
+    params = dict(scene.to_dict())
+    params.update({"precision": precision, "straight_max": STRAIGHT_MAX, "planar_max": PLANAR_MAX})
+    return finalize(ds, f"Thresholds of '{scene.name}': L/R = {scene.L / scene.R:g}", params)
+
+
+def run_spec(scene: Scene, spec: dict) -> xr.Dataset:
+    """One job of a path figure: spec = {"run": up | down | fresh | thresholds,
+    "loads": [...] (sweeps), "precision": relative precision (thresholds)}."""
+    run = spec["run"]
+    if run == "thresholds":
+        return thresholds(scene, float(spec["precision"]))
+    loads = sorted(float(F) for F in spec["loads"])
+    if run == "down":
+        loads = loads[::-1]
+    ds = load_path(scene, loads, mode="fresh" if run == "fresh" else "continuation")
+    ds.attrs["run"] = run
+    return ds

@@ -104,11 +104,24 @@ def probe_path(figure: str, scene: str) -> str:
     return str(RESULTS / "probes" / figure / f"{scene}.nc")
 
 
+def path_file(figure: str, scene: str) -> str:
+    return str(RESULTS / "paths" / figure / f"{scene}.nc")
+
+
+def path_spec(config: dict[str, Any], figure: str, scene: str) -> dict[str, Any]:
+    """What the rule load_path runs for one scene of a path figure (the kind decides)."""
+    fig = config["figures"][figure]
+    return kinds.get(fig["kind"]).path_spec(fig, scene)
+
+
 def figure_sims(config: dict[str, Any], figure: str) -> list[str]:
     """Scene dataset files of a figure, in its scene order (shared scenes point to one file;
     the points of a stability map are probes, which record failures instead of raising)."""
-    if kinds.source(config["figures"][figure]["kind"]) == "probe":
+    source = kinds.source(config["figures"][figure]["kind"])
+    if source == "probe":
         return [probe_path(figure, s) for s in scenes(config, figure)]
+    if source == "path":
+        return [path_file(figure, s) for s in scenes(config, figure)]
     return [sim_path(*canonical_scene(config, figure, s)) for s in scenes(config, figure)]
 
 

@@ -195,6 +195,20 @@ _Q = SCENE_PARAMETERS + [
     Quantity("out_of_plane", r"\delta_\perp", "rms distance of the link centres from their best-fitting plane",
              "R"),
     Quantity("state_class", "", "shape of the equilibrium: straight, planar (buckled in a plane) or three_d", "1"),
+    Quantity("threshold", "", "threshold: first (straight to buckled) or second (planar to 3-D)", "1"),
+    Quantity("threshold_lo", "F_{lo}", "largest load found below the threshold (bisection)", "EI R-2"),
+    Quantity("threshold_hi", "F_{hi}", "smallest load found above the threshold (bisection)", "EI R-2"),
+    Quantity("threshold_runs", "", "runs the bisection took", "1"),
+    Quantity("threshold_estimate", "F_{est}", "estimate of the threshold: Euler's load of the rod lying diagonally "
+             "across the pore (first), the second Euler mode 4 pi^2 EI/L^2 (second)", "EI R-2"),
+    Quantity("F_euler", "F_E", "Euler's critical load pi^2 EI/L^2", "EI R-2"),
+    Quantity("L2_over_EI", "L^2/EI", "L^2/EI of the thresholds scene (scales a load to Euler units)", "R2 EI-1"),
+    Quantity("aspect", "L/R", "aspect ratio of the rod", "1"),
+    Quantity("run", "", "how the sweep was run: up or down (continuation from the previous load) or fresh", "1"),
+    Quantity("branch_k_fr", "k_{fr}", "friction coefficient of the sweep", "1"),
+    Quantity("branch_protocol", "", "protocol of the sweep (start of each fresh run, or of the first load)", "1"),
+    Quantity("L_z_straight", "L_z", "L_z of the straight rod lying diagonally across the pore, "
+             "sqrt(L^2 - 4R^2)(1 - load/k_ph)", "R"),
     # Fig 1: shapes
     Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),
     Quantity("detached_top", "s_h", "length of the detached upper end (loaded end to first wall contact)", "R"),

@@ -147,6 +147,10 @@ class Scene:
         return discrete_constants(self.L, self.R, self.EI, self.l0, self.k_ph, self.k_w,
                                   self.rotational_drag, self.bending_constant)
 
+    def C_l0(self) -> float:
+        """The bending stiffness the joints represent, C l0: EI, or EI R/l0 as printed."""
+        return self.constants().C * self.l0
+
     def dt(self) -> float:
         return self.dt_factor * self.constants().dt_stable
 

@@ -88,3 +88,24 @@ def helix_pitch_rate(F, R: float = 1.0, EI: float = 1.0):
         lo = np.where(below, mid, lo)
         hi = np.where(below, hi, mid)
     return np.sqrt(0.5 * (lo + hi)) / R
+
+
+# -- the thresholds of the bifurcation diagram (docs/model.md, "Transitions") ----------------
+def first_threshold(L: float, R: float, l0: float, EI: float) -> float:
+    """Euler's load of the discrete rod lying diagonally across the pore:
+    (4 EI/l0^2) sin^2(pi l0/(2L)) sqrt(1 - 4R^2/L^2); pi^2 EI/L^2 sqrt(1 - 4R^2/L^2) as l0 -> 0."""
+    return 4.0 * EI / l0**2 * np.sin(np.pi * l0 / (2.0 * L)) ** 2 * np.sqrt(max(0.0, 1.0 - 4.0 * R**2 / L**2))
+
+
+def second_threshold_estimate(L: float, EI: float) -> float:
+    """The second Euler mode 4 pi^2 EI/L^2: the two halves of an arc resting on the wall
+    at mid-span buckle again, out of the plane (measured: 3.69, 3.93, 3.98 x pi^2 EI/L^2
+    at L/R = 10, 20, 40)."""
+    return 4.0 * np.pi**2 * EI / L**2
+
+
+def threshold_brackets(L: float, EI: float) -> dict[str, tuple[float, float]]:
+    """Load brackets the bisection starts from: (0.5, 1.5) x pi^2 EI/L^2 for the first
+    threshold, (2.4, 4.8) x pi^2 EI/L^2 for the second."""
+    F_E = np.pi**2 * EI / L**2
+    return {"first": (0.5 * F_E, 1.5 * F_E), "second": (2.4 * F_E, 4.8 * F_E)}

@@ -55,6 +55,10 @@ SIMULATION_CODE = sorted(
 )
 
 
+# load paths (Fig 3) also use the threshold estimates of theory.py as bisection brackets
+PATH_CODE = SIMULATION_CODE + [str(_PKG / "theory.py")]
+
+
 def scene_sims(wildcards):
     return pipeline.figure_sims(config, wildcards.figure)
 

@@ -45,3 +45,31 @@ rule probe:
         "../envs/confined_rod.yaml"
     script:
         "../scripts/probe.py"
+
+
+rule load_path:
+    """One scene of a path figure (Fig 3): equilibria along a load sweep (up, down or
+    fresh at each load) or the thresholds by bisection; confined_rod.paths.run_spec."""
+    input:
+        code=PATH_CODE,
+    output:
+        "results/paths/{figure}/{scene}.nc",
+    params:
+        scene=lambda wildcards: pipeline.scene_params(
+            config, wildcards.figure, wildcards.scene
+        ),
+        spec=lambda wildcards: pipeline.path_spec(
+            config, wildcards.figure, wildcards.scene
+        ),
+    log:
+        "results/logs/load_path/{figure}/{scene}.log",
+    benchmark:
+        "results/benchmarks/load_path/{figure}/{scene}.tsv"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=60,
+    conda:
+        "../envs/confined_rod.yaml"
+    script:
+        "../scripts/load_path.py"

@@ -4,7 +4,9 @@ A kind module holds everything about one kind of figure:
 
     OPTIONS   JSON-schema properties of the kind's own config entries (the config
               schema is generated from them: ``python -m confined_rod schema``)
-    SOURCE    "simulate" (default) or "probe": the rule that makes its scene files
+    SOURCE    "simulate" (default), "probe" or "path": the rule that makes its scene
+              files (a "path" kind also defines path_spec(fig_cfg, scene): what the
+              rule load_path runs for that scene, see confined_rod.paths.run_spec)
     validate(figure, fig_cfg, built)   built: scene id -> Scene; raise ConfigError
     varied(fig_cfg)                    scene parameters that differ between its scenes
     caption(figure, fig_cfg, built)    what the figure shows (the pipeline adds the title
