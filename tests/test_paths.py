@@ -167,3 +167,16 @@ def test_bifurcation_dataset_and_figure_from_real_runs():
     matplotlib.use("Agg")
     fig = bifurcation.plot(ds)
     assert len(fig.axes) == 2
+
+
+def test_a_transition_keeps_the_shapes_the_run_chooses_and_tests_the_defects():
+    ds = paths.transition(Scene(L=40, load=0.25, k_fr=0.0, protocol="planar_then_3d", seed=1, name="tr"), [0.5])
+    stage, oop = ds.snap_stage.values, ds.snap_out_of_plane.values
+    assert stage[0] == 0 and oop[0] < 1e-9  # the planar stage ends exactly planar
+    assert np.all(stage[1:] == 1) and 10 <= ds.sizes["snapshot"] <= 60  # a few dozen shapes, not a trajectory
+    assert oop[-1] > 0.3 and np.all(np.diff(ds.snap_time.values) > 0)
+    assert list(ds.state.values) == ["final", "reduced_0.5"]
+    assert ds.state_load.values.tolist() == [0.25, 0.125] and np.all(ds.converged.values == 1)
+    from confined_rod.io import check_finite
+
+    check_finite(ds)

@@ -154,7 +154,7 @@ def three_dimensional(scene: Scene, st: RunState) -> bool:
 
 
 # -- what a figure asks of one scene (the pipeline's rule `load_path`) ---------------------
-RUNS = ("up", "down", "fresh", "thresholds")
+RUNS = ("up", "down", "fresh", "thresholds", "transition")
 
 
 def thresholds(scene: Scene, precision: float) -> xr.Dataset:
@@ -182,14 +182,99 @@ def thresholds(scene: Scene, precision: float) -> xr.Dataset:
 
 
 def run_spec(scene: Scene, spec: dict) -> xr.Dataset:
-    """One job of a path figure: spec = {"run": up | down | fresh | thresholds,
-    "loads": [...] (sweeps), "precision": relative precision (thresholds)}."""
+    """One job of a path figure: spec = {"run": up | down | fresh | thresholds | transition,
+    "loads": [...] (sweeps), "precision": relative precision (thresholds), "reduced":
+    load fractions (transition)}."""
     run = spec["run"]
     if run == "thresholds":
         return thresholds(scene, float(spec["precision"]))
+    if run == "transition":
+        return transition(scene, spec.get("reduced", ()))
     loads = sorted(float(F) for F in spec["loads"])
     if run == "down":
         loads = loads[::-1]
     ds = load_path(scene, loads, mode="fresh" if run == "fresh" else "continuation")
     ds.attrs["run"] = run
     return ds
+
+
+# -- a transition in time: planar state -> 3-D (Fig 2) -------------------------------------
+SNAP_GROWTH = 2.0  # second stage: a snapshot each time the simulated time doubles
+
+
+def _stretch_rate(sc: Scene, st: RunState) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(contact, in_stretch, dphi/ds) per link from the loaded end (0 outside the stretch)."""
+    o = obs.compute(sc, st.r, st.t)
+    sl = obs.contact_stretch(o.contact)
+    inside = np.zeros(sc.N, dtype=np.int8)
+    inside[sl] = 1
+    rate = np.zeros(sc.N)
+    rate[sl] = o.dphi_ds
+    return o.contact, inside, rate
+
+
+def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
+    """Protocol planar_then_3d with shapes chosen by the run, not by fixed steps: the end
+    of the planar stage, then the second stage at simulated times growing by
+    SNAP_GROWTH from the first step (a few dozen shapes: the figure picks the growing
+    instability among them), and the final state.  Then the load is reduced to each
+    fraction in ``reduced`` in turn (continuation) to test whether the final state's
+    defects survive; per state the dataset keeps the shape and dphi/ds along the
+    contact stretch (defects are counted by post-processing, measure.defects)."""
+    if scene.protocol != "planar_then_3d":
+        raise ValueError(f"scene {scene.name!r}: a transition runs protocol planar_then_3d, not {scene.protocol!r}")
+    make = STEPPERS[scene.solver]
+    r, t = scene.initial_state()
+    st = RunState(r=r, t=t)
+    relax(scene, st, make(scene), progress=False)
+    snaps = [(st.time, 0, st.r.copy(), st.t.copy())]
+    planar_converged = st.converged
+    scene.perturb_3d(st.r)
+    stepper = make(scene)
+    t_stage = st.time
+    t_next = t_stage + 10.0 * scene.dt()
+    while True:
+        relax(scene, st, stepper, t_end=min(t_next, scene.t_max), progress=False)
+        snaps.append((st.time, 1, st.r.copy(), st.t.copy()))
+        if st.converged or st.escaped or st.time >= scene.t_max * (1 - 1e-12):
+            break
+        t_next = t_stage + (t_next - t_stage) * SNAP_GROWTH
+    states = [("final", scene, st.r.copy(), st.t.copy(), st.converged)]
+    for frac in reduced:
+        sc = at_load(scene, scene.load * float(frac))
+        relax_at(sc, st)
+        states.append((f"reduced_{frac:g}", sc, st.r.copy(), st.t.copy(), st.converged))
+    order = np.arange(scene.N)[::-1]  # from the loaded end, as every dataset
+    snap = {f"snap_{c}": variable(("snapshot", "link"), np.array([s[2][order, i] for s in snaps]), f"snap_{c}")
+            for i, c in enumerate("xyz")}
+    data = dict(snap)
+    data["snap_stage"] = variable(("snapshot",), np.array([s[1] for s in snaps], dtype=np.int8), "snap_stage")
+    data["snap_out_of_plane"] = variable(("snapshot",), [obs.shape_measures(s[2], scene.R)[1] for s in snaps],
+                                         "out_of_plane")
+    per_state: dict[str, list] = {k: [] for k in ("x", "y", "z", "contact", "in_stretch", "dphi_ds", "L_z",
+                                                   "F_transmitted", "converged", "state_load")}
+    for _, sc, rr, tt, conv in states:
+        tmp = RunState(r=rr, t=tt)
+        contact, inside, rate = _stretch_rate(sc, tmp)
+        o = obs.compute(sc, rr, tt)
+        for k, v in (("x", o.r[:, 0]), ("y", o.r[:, 1]), ("z", o.r[:, 2]), ("contact", contact),
+                     ("in_stretch", inside), ("dphi_ds", rate), ("L_z", o.L_z), ("F_transmitted", o.F_transmitted),
+                     ("converged", conv), ("state_load", sc.load)):
+            per_state[k].append(v)
+    for k in ("x", "y", "z", "dphi_ds"):
+        data[k] = variable(("state", "link"), np.array(per_state[k]), k)
+    for k in ("contact", "in_stretch"):
+        data[k] = variable(("state", "link"), np.array(per_state[k], dtype=np.int8), k)
+    for k in ("L_z", "F_transmitted"):
+        data[k] = variable(("state",), per_state[k], k)
+    data["converged"] = variable(("state",), np.array(per_state["converged"], dtype=np.int8), "converged")
+    data["state_load"] = variable(("state",), per_state["state_load"], "load")
+    coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "time"),
+              "state": variable(("state",), np.array([s[0] for s in states], dtype=object), "state"),
+              "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
+    ds = xr.Dataset(data, coords=coords)
+    params = dict(scene.to_dict())
+    params.update({"planar_stage_converged": int(planar_converged), "snap_growth": SNAP_GROWTH,
+                   "reduced_fractions": [float(f) for f in reduced] or "none"})
+    return finalize(ds, f"Planar to 3-D transition of '{scene.name}': L/R = {scene.L / scene.R:g}, "
+                        f"load {scene.load:g}, k_fr = {scene.k_fr:g}, seed {scene.seed}", params)

@@ -207,6 +207,13 @@ _Q = SCENE_PARAMETERS + [
     Quantity("run", "", "how the sweep was run: up or down (continuation from the previous load) or fresh", "1"),
     Quantity("branch_k_fr", "k_{fr}", "friction coefficient of the sweep", "1"),
     Quantity("branch_protocol", "", "protocol of the sweep (start of each fresh run, or of the first load)", "1"),
+    Quantity("frame", "", "shape drawn: (a) planar state, (b) instability growing, (c) final state", "1"),
+    Quantity("s_defect", "s", "arc length of a defect (reversal of handedness) from the loaded end", "R"),
+    Quantity("n_defects", "n_{def}", "number of defects (reversals of handedness between stretches of >= 3 links)",
+             "1"),
+    Quantity("snap_stage", "", "stage of the protocol the snapshot belongs to (0 planar, 1 three-dimensional)", "1"),
+    Quantity("state", "", "state of a transition run: final, or after reducing the load (reduced_<fraction>)", "1"),
+    Quantity("in_stretch", "", "link lies on the wall-contact stretch (first to last link touching the wall)", "1"),
     Quantity("L_z_straight", "L_z", "L_z of the straight rod lying diagonally across the pore, "
              "sqrt(L^2 - 4R^2)(1 - load/k_ph)", "R"),
     # Fig 1: shapes
