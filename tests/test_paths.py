@@ -180,3 +180,33 @@ def test_a_transition_keeps_the_shapes_the_run_chooses_and_tests_the_defects():
     from confined_rod.io import check_finite
 
     check_finite(ds)
+
+
+# -- the fold at large loads (Fig 8) -----------------------------------------------------------
+def test_a_rod_well_below_the_fold_threshold_forms_a_helix_and_stays_in_the_pore():
+    """The fold threshold is 0.66-0.67 EI/R^2 with k_fr = 0.8 (0.61 frictionless); at
+    0.4 EI/R^2, well below, rods of two lengths and two seeds settle into helices inside
+    the pore: no fold, no escape, L_z close to L."""
+    from confined_rod.simulation import simulate
+
+    for L, seed in ((40.0, 1), (40.0, 2), (80.0, 1)):
+        ds = simulate(Scene(L=L, load=0.4, k_fr=0.8, seed=seed, name="below"), progress=False)
+        assert ds.attrs["status"] == "converged" and int(ds.escaped) == 0
+        assert float(ds.L_z) > 0.85 * L and int(ds.contact.sum()) > 0.3 * ds.sizes["link"]  # a helix on the wall
+
+
+def test_the_fold_threshold_scales_as_one_over_R_squared():
+    """In units of EI/R^2 the threshold is the same for R = 1 and R = 2 (with l0, k_ph, k_w,
+    and so every length and stiffness, scaled with R): a consequence of dimensional
+    analysis that the discretisation must respect, and the paper's 1/R^2 claim; and it
+    lies below the largest load a helix on the wall can carry, 4/(3 sqrt 3) EI/R^2."""
+    from confined_rod import theory
+
+    out = []
+    for R in (1.0, 2.0):
+        sc = Scene(L=20.0 * R, R=R, k_fr=0.0, seed=1, name="fold")
+        lo, hi, _ = paths.bisect_threshold(sc, paths.folded, *theory.fold_bracket(R, 1.0), 2e-2)
+        out.append((lo * R**2, hi * R**2))
+    (lo1, hi1), (lo2, hi2) = out
+    assert max(lo1, lo2) <= min(hi1, hi2)  # the brackets overlap
+    assert hi1 < theory.helix_load_limit(1.0, 1.0)

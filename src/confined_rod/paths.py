@@ -154,7 +154,7 @@ def three_dimensional(scene: Scene, st: RunState) -> bool:
 
 
 # -- what a figure asks of one scene (the pipeline's rule `load_path`) ---------------------
-RUNS = ("up", "down", "fresh", "thresholds", "transition")
+RUNS = ("up", "down", "fresh", "thresholds", "transition", "fold_threshold", "event")
 
 
 def thresholds(scene: Scene, precision: float) -> xr.Dataset:
@@ -190,6 +190,10 @@ def run_spec(scene: Scene, spec: dict) -> xr.Dataset:
         return thresholds(scene, float(spec["precision"]))
     if run == "transition":
         return transition(scene, spec.get("reduced", ()))
+    if run == "fold_threshold":
+        return fold_threshold(scene, float(spec["precision"]))
+    if run == "event":
+        return event(scene)
     loads = sorted(float(F) for F in spec["loads"])
     if run == "down":
         loads = loads[::-1]
@@ -278,3 +282,55 @@ def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
                    "reduced_fractions": [float(f) for f in reduced] or "none"})
     return finalize(ds, f"Planar to 3-D transition of '{scene.name}': L/R = {scene.L / scene.R:g}, "
                         f"load {scene.load:g}, k_fr = {scene.k_fr:g}, seed {scene.seed}", params)
+
+
+# -- the fold (U-bend) at large loads (Fig 8) ----------------------------------------------------
+FOLDED_LZ = 0.5  # a rod whose L_z has fallen below this fraction of L has folded (or escaped)
+
+
+def folded(scene: Scene, st: RunState) -> bool:
+    """The final state has folded over (L_z < FOLDED_LZ L) or left the pore."""
+    return st.escaped or obs.compute(scene, st.r, st.t).L_z < FOLDED_LZ * scene.L
+
+
+def fold_threshold(scene: Scene, precision: float) -> xr.Dataset:
+    """The load above which a fresh run of the scene folds (or escapes), by bisection
+    from theory.fold_bracket."""
+    lo, hi, n = bisect_threshold(scene, folded, *theory.fold_bracket(scene.R, scene.EI), precision)
+    data = {"threshold_lo": variable(("threshold",), [lo], "threshold_lo"),
+            "threshold_hi": variable(("threshold",), [hi], "threshold_hi"),
+            "threshold_runs": variable(("threshold",), np.array([n], dtype=np.int32), "threshold_runs")}
+    ds = xr.Dataset(data, coords={"threshold": variable(("threshold",), np.array(["fold"], dtype=object),
+                                                        "threshold")})
+    params = dict(scene.to_dict())
+    params.update({"precision": precision, "folded_L_z": FOLDED_LZ})
+    return finalize(ds, f"Fold threshold of '{scene.name}': L/R = {scene.L / scene.R:g}", params)
+
+
+def event(scene: Scene) -> xr.Dataset:
+    """A fresh run of the scene with shapes at simulated times doubling from its first
+    step (a few dozen), with L_z of each: the figure picks its frames by what the rod
+    does (the fold starting, half folded, the end state)."""
+    make = STEPPERS[scene.solver]
+    r, t = scene.initial_state()
+    st = RunState(r=r, t=t)
+    stepper = make(scene)
+    snaps = [(0.0, st.r.copy(), st.t.copy())]
+    t_next = 10.0 * scene.dt()
+    while True:
+        relax(scene, st, stepper, t_end=min(t_next, scene.t_max), progress=False)
+        snaps.append((st.time, st.r.copy(), st.t.copy()))
+        if st.converged or st.escaped or st.time >= scene.t_max * (1 - 1e-12):
+            break
+        t_next *= SNAP_GROWTH
+    order = np.arange(scene.N)[::-1]
+    data = {f"snap_{c}": variable(("snapshot", "link"), np.array([s[1][order, i] for s in snaps]), f"snap_{c}")
+            for i, c in enumerate("xyz")}
+    data["snap_L_z"] = variable(("snapshot",), [obs.compute(scene, s[1], s[2]).L_z for s in snaps], "L_z")
+    data["converged"] = variable((), np.int8(st.converged), "converged")
+    data["escaped"] = variable((), np.int8(st.escaped), "escaped")
+    coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "time"),
+              "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
+    ds = xr.Dataset(data, coords=coords)
+    return finalize(ds, f"Run of '{scene.name}' with shapes along the way: L/R = {scene.L / scene.R:g}, "
+                        f"load {scene.load:g}", dict(scene.to_dict()) | {"snap_growth": SNAP_GROWTH})

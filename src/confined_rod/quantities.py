@@ -204,6 +204,7 @@ _Q = SCENE_PARAMETERS + [
     Quantity("F_euler", "F_E", "Euler's critical load pi^2 EI/L^2", "EI R-2"),
     Quantity("L2_over_EI", "L^2/EI", "L^2/EI of the thresholds scene (scales a load to Euler units)", "R2 EI-1"),
     Quantity("aspect", "L/R", "aspect ratio of the rod", "1"),
+    Quantity("R2_over_EI", "R^2/EI", "R^2/EI of the threshold scene (scales a load to units of EI/R^2)", "R2 EI-1"),
     Quantity("run", "", "how the sweep was run: up or down (continuation from the previous load) or fresh", "1"),
     Quantity("branch_k_fr", "k_{fr}", "friction coefficient of the sweep", "1"),
     Quantity("branch_protocol", "", "protocol of the sweep (start of each fresh run, or of the first load)", "1"),

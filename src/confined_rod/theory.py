@@ -109,3 +109,15 @@ def threshold_brackets(L: float, EI: float) -> dict[str, tuple[float, float]]:
     threshold, (2.4, 4.8) x pi^2 EI/L^2 for the second."""
     F_E = np.pi**2 * EI / L**2
     return {"first": (0.5 * F_E, 1.5 * F_E), "second": (2.4 * F_E, 4.8 * F_E)}
+
+
+def helix_load_limit(R: float, EI: float) -> float:
+    """Largest axial load a torque-free helix on the wall can carry:
+    max over omega of 2 EI omega^2 sqrt(1 - R^2 omega^2) = 4/(3 sqrt 3) EI/R^2 (at R^2 omega^2 = 2/3)."""
+    return 4.0 / (3.0 * np.sqrt(3.0)) * EI / R**2
+
+
+def fold_bracket(R: float, EI: float) -> tuple[float, float]:
+    """Load bracket of the fold (U-bend) threshold's bisection: (0.3, 1.2) EI/R^2, about the
+    helix limit 0.77 EI/R^2 (measured thresholds 0.61-0.67 EI/R^2, docs/model.md, 'Fig 8')."""
+    return 0.3 * EI / R**2, 1.2 * EI / R**2
