@@ -209,7 +209,8 @@ _Q = SCENE_PARAMETERS + [
     Quantity("branch_k_fr", "k_{fr}", "friction coefficient of the sweep", "1"),
     Quantity("branch_protocol", "", "protocol of the sweep (start of each fresh run, or of the first load)", "1"),
     Quantity("frame", "", "shape drawn: (a) planar state, (b) instability growing, (c) final state", "1"),
-    Quantity("s_defect", "s", "arc length of a defect (reversal of handedness) from the loaded end", "R"),
+    Quantity("defect_at", "", "link nearest a defect (reversal of handedness) of the drawn run's final state (1) "
+             "or not (0)", "1"),
     Quantity("n_defects", "n_{def}", "number of defects (reversals of handedness between stretches of >= 3 links)",
              "1"),
     Quantity("snap_stage", "", "stage of the protocol the snapshot belongs to (0 planar, 1 three-dimensional)", "1"),

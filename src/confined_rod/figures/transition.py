@@ -92,7 +92,11 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     data["frame_time"] = variable(("frame",), shown["snap_time"].values[frames], "time")
     data["frame_out_of_plane"] = variable(("frame",), oop[frames], "out_of_plane")
     s_def = count(shown, 0)
-    data["defect_s"] = variable(("defect",), s_def, "s_defect")
+    # the defects of the drawn run's final state as a flag on the link nearest each (never an
+    # empty variable; the positions are s_link where the flag is 1)
+    near = np.zeros(shown.sizes["link"], dtype=np.int8)
+    near[[int(np.argmin(np.abs(shown["s_link"].values - sd))) for sd in s_def]] = 1
+    data["defect_at"] = variable(("link",), near, "defect_at")
     states = list(shown["state"].values)
     n_def = np.array([[count(sims[n], i).size for i in range(len(states))] for n in names], dtype=np.int32)
     data["n_defects"] = variable(("scene", "state"), n_def, "n_defects")
@@ -135,8 +139,7 @@ def plot(ds: xr.Dataset):
         _tube(ax, z, x, y, R, lw=2.0)
         extra = ""
         if f == "c":
-            for sd in ds["defect_s"].values:  # s from the loaded end -> z of the nearest link centre
-                zd = z[int(np.argmin(np.abs(ds["s_link"].values - sd)))]
+            for zd in z[ds["defect_at"].values == 1]:  # z of the link nearest each defect
                 ax.axvline(zd, color="tab:red", lw=1.2, ls="--", zorder=5)
             extra = f", {ds.attrs['shown_defects']} defect(s) (red)"
         ax.set_xlim(min(z.min(), 0) - R, z.max() + R)
