@@ -11,7 +11,7 @@ build with SIGKILL, then recovers as the README says:
     snakemake --unlock --configfile CONFIG     # only if the rerun reports a stale lock
     snakemake --cores 2 --configfile CONFIG    # the profile sets --rerun-incomplete
 
-and compares every dataset (results/sims, probes, datasets) and every check
+and compares every dataset (results/sims, probes, paths, datasets) and every check
 verdict with the reference: all data variables bitwise equal except run times
 (variables named wall_time), all attributes equal except run times (names
 containing wall_time), ``history`` (a timestamp) and ``git_commit`` (the copy is
@@ -122,7 +122,7 @@ def main(argv=None) -> int:
         summary["resume_s"] = round(time.perf_counter() - t0 - summary["killed_after_s"], 1)
         diffs: dict[str, list[str]] = {}
         compared = 0
-        for sub in ("sims", "probes", "datasets"):
+        for sub in ("sims", "probes", "paths", "datasets"):
             for ref in sorted((reference / sub).rglob("*.nc")):
                 rel = ref.relative_to(reference)
                 mine = work / "results" / rel
