@@ -80,8 +80,8 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
     if mode not in MODES:
         raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
     loads = [float(F) for F in loads]
-    rows: dict[str, list] = {k: [] for k in ("L_z", "F_transmitted", "deflection", "out_of_plane", "n_contact",
-                                             "converged", "escaped", "state_class", "x", "y", "z")}
+    rows: dict[str, list] = {k: [] for k in ("L_z", "F_transmitted", "deflection", "out_of_plane", "tol_effective",
+                                             "n_contact", "converged", "escaped", "state_class", "x", "y", "z")}
     st = None
     for F in loads:
         sc = at_load(scene, F)
@@ -93,13 +93,13 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
         o = obs.compute(sc, st.r, st.t)
         dfl, oop = obs.shape_measures(st.r, sc.R)
         for k, v in (("L_z", o.L_z), ("F_transmitted", o.F_transmitted), ("deflection", dfl),
-                     ("out_of_plane", oop), ("n_contact", int(o.contact.sum())), ("converged", st.converged),
+                     ("out_of_plane", oop), ("tol_effective", equilibrium_tol(sc)),
+                     ("n_contact", int(o.contact.sum())), ("converged", st.converged),
                      ("escaped", st.escaped), ("state_class", CLASSES.index(classify(dfl, oop))),
                      ("x", o.r[:, 0]), ("y", o.r[:, 1]), ("z", o.r[:, 2])):
             rows[k].append(v)
-    n = len(rows["L_z"])
     data = {k: variable(("load",), np.asarray(rows[k]), k) for k in ("L_z", "F_transmitted", "deflection",
-                                                                      "out_of_plane")}
+                                                                      "out_of_plane", "tol_effective")}
     data["n_contact"] = variable(("load",), np.asarray(rows["n_contact"], dtype=np.int32), "n_contact")
     for flag in ("converged", "escaped"):
         data[flag] = variable(("load",), np.asarray(rows[flag], dtype=np.int8), flag)
@@ -109,12 +109,11 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
                                      flag_meanings=" ".join(CLASSES))
     for c in ("x", "y", "z"):
         data[c] = variable(("load", "link"), np.asarray(rows[c]), c)
-    coords = {"load": variable(("load",), np.asarray(loads[:n]), "load"),
+    coords = {"load": variable(("load",), np.asarray(loads), "load"),
               "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     params = dict(scene.to_dict())
-    params.update({"mode": mode, "straight_max": STRAIGHT_MAX, "planar_max": PLANAR_MAX,
-                   "tol_effective": equilibrium_tol(scene)})
+    params.update({"mode": mode, "straight_max": STRAIGHT_MAX, "planar_max": PLANAR_MAX})
     title = (f"Load path of '{scene.name}' ({mode}): L/R = {scene.L / scene.R:g}, k_fr = {scene.k_fr:g}, "
              f"protocol {scene.protocol}")
     return finalize(ds, title, params)
@@ -206,15 +205,14 @@ def run_spec(scene: Scene, spec: dict) -> xr.Dataset:
 SNAP_GROWTH = 2.0  # second stage: a snapshot each time the simulated time doubles
 
 
-def _stretch_rate(sc: Scene, st: RunState) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(contact, in_stretch, dphi/ds) per link from the loaded end (0 outside the stretch)."""
-    o = obs.compute(sc, st.r, st.t)
+def _stretch_rate(o: obs.Observables) -> tuple[np.ndarray, np.ndarray]:
+    """(in_stretch, dphi/ds) per link from the loaded end (0 outside the contact stretch)."""
     sl = obs.contact_stretch(o.contact)
-    inside = np.zeros(sc.N, dtype=np.int8)
+    inside = np.zeros(o.contact.size, dtype=np.int8)
     inside[sl] = 1
-    rate = np.zeros(sc.N)
+    rate = np.zeros(o.contact.size)
     rate[sl] = o.dphi_ds
-    return o.contact, inside, rate
+    return inside, rate
 
 
 def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
@@ -258,10 +256,9 @@ def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
     per_state: dict[str, list] = {k: [] for k in ("x", "y", "z", "contact", "in_stretch", "dphi_ds", "L_z",
                                                    "F_transmitted", "converged", "state_load")}
     for _, sc, rr, tt, conv in states:
-        tmp = RunState(r=rr, t=tt)
-        contact, inside, rate = _stretch_rate(sc, tmp)
         o = obs.compute(sc, rr, tt)
-        for k, v in (("x", o.r[:, 0]), ("y", o.r[:, 1]), ("z", o.r[:, 2]), ("contact", contact),
+        inside, rate = _stretch_rate(o)
+        for k, v in (("x", o.r[:, 0]), ("y", o.r[:, 1]), ("z", o.r[:, 2]), ("contact", o.contact),
                      ("in_stretch", inside), ("dphi_ds", rate), ("L_z", o.L_z), ("F_transmitted", o.F_transmitted),
                      ("converged", conv), ("state_load", sc.load)):
             per_state[k].append(v)
