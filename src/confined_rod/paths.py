@@ -69,6 +69,12 @@ def nudge(scene: Scene, st: RunState, step: int) -> None:
         st.r[:, 1] += d[:, 1]
 
 
+def start(scene: Scene) -> RunState:
+    """The scene's perturbed initial state."""
+    r, t = scene.initial_state()
+    return RunState(r=r, t=t)
+
+
 def fresh(scene: Scene) -> RunState:
     """The scene's protocol from its own perturbed initial state (both stages of
     planar_then_3d)."""
@@ -166,18 +172,24 @@ def thresholds(scene: Scene, precision: float) -> xr.Dataset:
     for name, protocol, above in (("first", "planar", buckled), ("second", "planar_then_3d", three_dimensional)):
         sc = dataclasses.replace(scene, protocol=protocol)
         out[name] = bisect_threshold(sc, above, *br[name], precision)
-    names = list(out)
+    return _threshold_dataset(scene, out, {"precision": precision, "straight_max": STRAIGHT_MAX,
+                                           "planar_max": PLANAR_MAX},
+                              f"Thresholds of '{scene.name}': L/R = {scene.L / scene.R:g}")
+
+
+def _threshold_dataset(scene: Scene, found: dict[str, tuple[float, float, int]], extra: dict,
+                       title: str) -> xr.Dataset:
+    """Dataset of bisection results: threshold name -> (lo, hi, runs)."""
+    names = list(found)
     data = {
-        "threshold_lo": variable(("threshold",), [out[n][0] for n in names], "threshold_lo"),
-        "threshold_hi": variable(("threshold",), [out[n][1] for n in names], "threshold_hi"),
-        "threshold_runs": variable(("threshold",), np.array([out[n][2] for n in names], dtype=np.int32),
+        "threshold_lo": variable(("threshold",), [found[n][0] for n in names], "threshold_lo"),
+        "threshold_hi": variable(("threshold",), [found[n][1] for n in names], "threshold_hi"),
+        "threshold_runs": variable(("threshold",), np.array([found[n][2] for n in names], dtype=np.int32),
                                    "threshold_runs"),
     }
     ds = xr.Dataset(data, coords={"threshold": variable(("threshold",), np.array(names, dtype=object),
                                                         "threshold")})
-    params = dict(scene.to_dict())
-    params.update({"precision": precision, "straight_max": STRAIGHT_MAX, "planar_max": PLANAR_MAX})
-    return finalize(ds, f"Thresholds of '{scene.name}': L/R = {scene.L / scene.R:g}", params)
+    return finalize(ds, title, dict(scene.to_dict()) | extra)
 
 
 def run_spec(scene: Scene, spec: dict) -> xr.Dataset:
@@ -205,6 +217,28 @@ def run_spec(scene: Scene, spec: dict) -> xr.Dataset:
 SNAP_GROWTH = 2.0  # second stage: a snapshot each time the simulated time doubles
 
 
+def _relax_with_shapes(scene: Scene, st: RunState, stepper) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    """Relax st to equilibrium (or escape, or t_max), keeping (time, r, t) at simulated
+    times growing by SNAP_GROWTH from 10 explicit steps after the start: a few dozen
+    shapes, not a trajectory."""
+    shapes = []
+    t_start = st.time
+    t_next = t_start + 10.0 * scene.dt()
+    while True:
+        relax(scene, st, stepper, t_end=min(t_next, scene.t_max), progress=False)
+        shapes.append((st.time, st.r.copy(), st.t.copy()))
+        if st.converged or st.escaped or st.time >= scene.t_max * (1 - 1e-12):
+            return shapes
+        t_next = t_start + (t_next - t_start) * SNAP_GROWTH
+
+
+def _shape_variables(scene: Scene, shapes) -> dict[str, xr.Variable]:
+    """snap_x, snap_y, snap_z (snapshot, link), links from the loaded end as in every dataset."""
+    order = np.arange(scene.N)[::-1]
+    return {f"snap_{c}": variable(("snapshot", "link"), np.array([r[order, i] for _, r, _ in shapes]), f"snap_{c}")
+            for i, c in enumerate("xyz")}
+
+
 def _stretch_rate(o: obs.Observables) -> tuple[np.ndarray, np.ndarray]:
     """(in_stretch, dphi/ds) per link from the loaded end (0 outside the contact stretch)."""
     sl = obs.contact_stretch(o.contact)
@@ -226,32 +260,21 @@ def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
     if scene.protocol != "planar_then_3d":
         raise ValueError(f"scene {scene.name!r}: a transition runs protocol planar_then_3d, not {scene.protocol!r}")
     make = STEPPERS[scene.solver]
-    r, t = scene.initial_state()
-    st = RunState(r=r, t=t)
+    st = start(scene)
     relax(scene, st, make(scene), progress=False)
-    snaps = [(st.time, 0, st.r.copy(), st.t.copy())]
+    planar = [(st.time, st.r.copy(), st.t.copy())]
     planar_converged = st.converged
     scene.perturb_3d(st.r)
-    stepper = make(scene)
-    t_stage = st.time
-    t_next = t_stage + 10.0 * scene.dt()
-    while True:
-        relax(scene, st, stepper, t_end=min(t_next, scene.t_max), progress=False)
-        snaps.append((st.time, 1, st.r.copy(), st.t.copy()))
-        if st.converged or st.escaped or st.time >= scene.t_max * (1 - 1e-12):
-            break
-        t_next = t_stage + (t_next - t_stage) * SNAP_GROWTH
+    snaps = planar + _relax_with_shapes(scene, st, make(scene))
+    stages = [0] + [1] * (len(snaps) - 1)
     states = [("final", scene, st.r.copy(), st.t.copy(), st.converged)]
     for frac in reduced:
         sc = at_load(scene, scene.load * float(frac))
         relax_at(sc, st)
         states.append((f"reduced_{frac:g}", sc, st.r.copy(), st.t.copy(), st.converged))
-    order = np.arange(scene.N)[::-1]  # from the loaded end, as every dataset
-    snap = {f"snap_{c}": variable(("snapshot", "link"), np.array([s[2][order, i] for s in snaps]), f"snap_{c}")
-            for i, c in enumerate("xyz")}
-    data = dict(snap)
-    data["snap_stage"] = variable(("snapshot",), np.array([s[1] for s in snaps], dtype=np.int8), "snap_stage")
-    data["snap_out_of_plane"] = variable(("snapshot",), [obs.shape_measures(s[2], scene.R)[1] for s in snaps],
+    data = _shape_variables(scene, snaps)
+    data["snap_stage"] = variable(("snapshot",), np.array(stages, dtype=np.int8), "snap_stage")
+    data["snap_out_of_plane"] = variable(("snapshot",), [obs.shape_measures(r, scene.R)[1] for _, r, _ in snaps],
                                          "out_of_plane")
     per_state: dict[str, list] = {k: [] for k in ("x", "y", "z", "contact", "in_stretch", "dphi_ds", "L_z",
                                                    "F_transmitted", "converged", "state_load")}
@@ -293,36 +316,18 @@ def folded(scene: Scene, st: RunState) -> bool:
 def fold_threshold(scene: Scene, precision: float) -> xr.Dataset:
     """The load above which a fresh run of the scene folds (or escapes), by bisection
     from theory.fold_bracket."""
-    lo, hi, n = bisect_threshold(scene, folded, *theory.fold_bracket(scene.R, scene.EI), precision)
-    data = {"threshold_lo": variable(("threshold",), [lo], "threshold_lo"),
-            "threshold_hi": variable(("threshold",), [hi], "threshold_hi"),
-            "threshold_runs": variable(("threshold",), np.array([n], dtype=np.int32), "threshold_runs")}
-    ds = xr.Dataset(data, coords={"threshold": variable(("threshold",), np.array(["fold"], dtype=object),
-                                                        "threshold")})
-    params = dict(scene.to_dict())
-    params.update({"precision": precision, "folded_L_z": FOLDED_LZ})
-    return finalize(ds, f"Fold threshold of '{scene.name}': L/R = {scene.L / scene.R:g}", params)
+    found = {"fold": bisect_threshold(scene, folded, *theory.fold_bracket(scene.R, scene.EI), precision)}
+    return _threshold_dataset(scene, found, {"precision": precision, "folded_L_z": FOLDED_LZ},
+                              f"Fold threshold of '{scene.name}': L/R = {scene.L / scene.R:g}")
 
 
 def event(scene: Scene) -> xr.Dataset:
     """A fresh run of the scene with shapes at simulated times doubling from its first
     step (a few dozen), with L_z of each: the figure picks its frames by what the rod
     does (the fold starting, half folded, the end state)."""
-    make = STEPPERS[scene.solver]
-    r, t = scene.initial_state()
-    st = RunState(r=r, t=t)
-    stepper = make(scene)
-    snaps = [(0.0, st.r.copy(), st.t.copy())]
-    t_next = 10.0 * scene.dt()
-    while True:
-        relax(scene, st, stepper, t_end=min(t_next, scene.t_max), progress=False)
-        snaps.append((st.time, st.r.copy(), st.t.copy()))
-        if st.converged or st.escaped or st.time >= scene.t_max * (1 - 1e-12):
-            break
-        t_next *= SNAP_GROWTH
-    order = np.arange(scene.N)[::-1]
-    data = {f"snap_{c}": variable(("snapshot", "link"), np.array([s[1][order, i] for s in snaps]), f"snap_{c}")
-            for i, c in enumerate("xyz")}
+    st = start(scene)
+    snaps = [(0.0, st.r.copy(), st.t.copy())] + _relax_with_shapes(scene, st, STEPPERS[scene.solver](scene))
+    data = _shape_variables(scene, snaps)
     data["snap_L_z"] = variable(("snapshot",), [obs.compute(scene, s[1], s[2]).L_z for s in snaps], "L_z")
     data["converged"] = variable((), np.int8(st.converged), "converged")
     data["escaped"] = variable((), np.int8(st.escaped), "escaped")

@@ -22,7 +22,7 @@ from ..errors import ConfigError
 from ..io import variable
 from ..quantities import label
 from ._common import check_scene_keys, scene_coord
-from .helix_views import _tube
+from .helix_views import side_strip
 
 SOURCE = "path"
 OPTIONS = {
@@ -133,14 +133,7 @@ def plot(ds: xr.Dataset):
     for i, f in enumerate(ds["frame"].values):
         ax = fig.add_subplot(gs[i, 0])
         x, y, z = (ds[f"frame_{c}"].values[i] for c in "xyz")
-        ax.axhspan(-R, R, color="0.96", zorder=0)
-        for xw in (-R, R):
-            ax.axhline(xw, color="0.55", lw=0.9, zorder=1)
-        _tube(ax, z, x, y, R, lw=1.6)
-        ax.set_xlim(-R, L + R)
-        ax.set_ylim(-1.35 * R, 1.35 * R)
-        ax.set_yticks([-R, 0, R])
-        ax.set_ylabel(r"$x$ [$R$]")
+        side_strip(ax, x, y, z, R, -R, L + R, lw=1.6)
         ax.set_title(f"({f}) {titles[f]}: $t = {float(ds.frame_time.values[i]):.4g}$, "
                      rf"$L_z = {float(ds.frame_L_z.values[i]):.1f}\,R$", fontsize=8.5, loc="left")
         if i == 2:

@@ -137,6 +137,19 @@ def _tube(ax, x, z, y, R, lw=2.4):
     return lc
 
 
+def side_strip(ax, x, y, z, R, z0, z1, lw=2.0) -> None:
+    """A rod lying along the pore, drawn as a horizontal strip: z along the pore, x across
+    it (wall at +-R), the tube shaded by depth y (Figs 2 and 8)."""
+    ax.axhspan(-R, R, color="0.96", zorder=0)
+    for xw in (-R, R):
+        ax.axhline(xw, color="0.55", lw=0.9, zorder=1)
+    _tube(ax, z, x, y, R, lw=lw)
+    ax.set_xlim(z0, z1)
+    ax.set_ylim(-1.35 * R, 1.35 * R)
+    ax.set_yticks([-R, 0, R])
+    ax.set_ylabel(r"$x$ [$R$]")
+
+
 def _pore(ax, x0, z0, z1, R):
     ax.axvspan(x0 - R, x0 + R, ymin=0, ymax=1, color="0.96", zorder=0)
     for xw in (x0 - R, x0 + R):

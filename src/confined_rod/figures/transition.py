@@ -24,7 +24,7 @@ from ..errors import ConfigError, SceneError
 from ..io import variable
 from ..measure import defects
 from ._common import need_scenes, same_except, scene_coord
-from .helix_views import _tube
+from .helix_views import side_strip
 
 SOURCE = "path"
 OPTIONS = {
@@ -133,19 +133,12 @@ def plot(ds: xr.Dataset):
     for i, f in enumerate(ds["frame"].values):
         ax = fig.add_subplot(gs[i, 0])
         x, y, z = (ds[f"frame_{c}"].values[i] for c in "xyz")
-        for xw in (-R, R):
-            ax.axhline(xw, color="0.55", lw=0.9, zorder=1)
-        ax.axhspan(-R, R, color="0.96", zorder=0)
-        _tube(ax, z, x, y, R, lw=2.0)
+        side_strip(ax, x, y, z, R, min(z.min(), 0) - R, z.max() + R)
         extra = ""
         if f == "c":
             for zd in z[ds["defect_at"].values == 1]:  # z of the link nearest each defect
                 ax.axvline(zd, color="tab:red", lw=1.2, ls="--", zorder=5)
             extra = f", {ds.attrs['shown_defects']} defect(s) (red)"
-        ax.set_xlim(min(z.min(), 0) - R, z.max() + R)
-        ax.set_ylim(-1.35 * R, 1.35 * R)
-        ax.set_yticks([-R, 0, R])
-        ax.set_ylabel(r"$x$ [$R$]")
         ax.set_title(f"({f}) {titles[f]}: $t = {float(ds.frame_time.values[i]):.4g}$, "
                      rf"$\delta_\perp = {float(ds.frame_out_of_plane.values[i]):.2f}\,R${extra}",
                      fontsize=8.5, loc="left")
