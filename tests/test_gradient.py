@@ -6,6 +6,8 @@ round-off ~eps |U|/h; with h = 1e-6 and |U|, |U'''| = O(1e3) both are < 1e-8 of
 the typical force (O(10) here), so a relative error < 1e-6 tests the kernels,
 not the differencing.
 """
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -25,6 +27,18 @@ def rotate(v, axis, angle):
             + axis * np.dot(axis, v) * (1 - np.cos(angle)))
 
 
+def minus_energy_gradient(r, t, par):
+    """-dU/dr_i of the numpy twin by central differences (step H)."""
+    grad = np.zeros_like(r)
+    for i in range(r.shape[0]):
+        for c in range(3):
+            rp, rm = r.copy(), r.copy()
+            rp[i, c] += H
+            rm[i, c] -= H
+            grad[i, c] = -(total_energy(rp, t, par) - total_energy(rm, t, par)) / (2 * H)
+    return grad
+
+
 @pytest.mark.parametrize("ends", ["free", "pinned"])
 @pytest.mark.parametrize("lower_end", ["held", "free"])
 def test_forces_and_torques_are_minus_energy_gradient(rng, ends, lower_end):
@@ -39,14 +53,7 @@ def test_forces_and_torques_are_minus_energy_gradient(rng, ends, lower_end):
     assert np.count_nonzero(ws.Nw) >= 3, "the state must press some link ends into the wall"
     assert f_floor > 0, "the state must press some link ends into the floor"
 
-    grad_F = np.zeros_like(r)
-    for i in range(scene.N):
-        for c in range(3):
-            rp, rm = r.copy(), r.copy()
-            rp[i, c] += H
-            rm[i, c] -= H
-            grad_F[i, c] = -(total_energy(rp, t, par) - total_energy(rm, t, par)) / (2 * H)
-    err_F = np.abs(grad_F - ws.F).max() / np.abs(ws.F).max()
+    err_F = np.abs(minus_energy_gradient(r, t, par) - ws.F).max() / np.abs(ws.F).max()
     assert err_F < 1e-6, err_F
 
     # torque: U(t_i rotated by angle a about axis n) -> dU/da = -M_i . n for n perpendicular to t_i
@@ -90,3 +97,31 @@ def test_friction_never_exceeds_coulomb_or_cap(rng):
     tang = ws.F.copy()
     tang[:, :2] -= (np.einsum("ij,ij->i", ws.F[:, :2], n))[:, None] * n
     assert np.abs(tang[stuck]).max(initial=0.0) < 1e-12 * max(1.0, np.abs(Fn).max())
+
+
+def test_the_pore_entrance_and_guided_end_are_conservative(rng):
+    """Around the pore entrance a link end inside the solid is
+    pushed out along the nearer face, the wall rho = R or the block's top face
+    z = z_top, so the energy is continuous across the rim; the guided loaded end
+    meets the wall above the entrance too.  The state puts ends in all three places."""
+    base = Scene(L=6.0, l0=0.5, k_ph=50.0, k_w=80.0, load=0.3, ends="guided")
+    r, t = random_state(base, rng, lateral=1.05)
+    r[-1, :2] = (1.2 * base.R, 0.0)  # the loaded end presses its guide
+    h = 0.5 * base.l0
+    pts = np.concatenate([r - h * t, r + h * t])
+    over = np.hypot(pts[:, 0], pts[:, 1]) - base.R
+    # the entrance just above an end that is outside R by more than its depth under it
+    k = max((j for j in range(len(pts) - 1) if 3.0 < pts[j, 2] < 5.0), key=lambda j: over[j])
+    scene = dataclasses.replace(base, pore_length=float(pts[k, 2] + 0.5 * over[k]))
+    par = scene.params()
+    face = [K._face_point(*p, par, False) > 0 for p in pts[:-1]]
+    radial = [K._wall_point(*p, par, False)[0] > 0 for p in pts[:-1]]
+    assert sum(face) >= 1 and sum(radial) >= 3, "ends must press both the top face and the wall"
+    assert pts[-1, 2] > scene.pore_length, "the loaded end is above the entrance"
+    ws = Workspace.for_links(scene.N)
+    e, _, _ = K.conservative_loads(r, t, par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)
+    assert e == pytest.approx(total_energy(r, t, par), rel=1e-12)
+    assert np.abs(minus_energy_gradient(r, t, par) - ws.F).max() / np.abs(ws.F).max() < 1e-6
+    # without the guide the loaded end above the entrance is free
+    par[K.GUIDED] = 0.0
+    assert total_energy(r, t, par) < e

@@ -12,6 +12,7 @@ import pytest
 
 from confined_rod import Scene, simulate
 from confined_rod.errors import DivergenceError
+from confined_rod.model import kernels as K
 
 
 def pair(**kw):
@@ -87,7 +88,7 @@ def test_a_frictionless_scene_does_no_friction_work(monkeypatch):
         assert ds.converged and float(abs(ds.friction_force).max()) == 0.0
 
 
-@pytest.mark.parametrize("floor", [False, True])
+@pytest.mark.parametrize("floor", [False, True, "rim"])
 def test_exact_contact_hessian_matches_finite_differences(rng, floor):
     """The Newton Hessian = finite differences of the smooth terms + the exact
     Hessian of the one-sided contacts.  Away from the switch-on of a contact both
@@ -101,9 +102,17 @@ def test_exact_contact_hessian_matches_finite_differences(rng, floor):
 
     from .conftest import random_state
 
-    scene = Scene(L=12.0, load=0.25, k_fr=0.8, lower_end="free" if floor else "held", floor=floor)
-    r, t = random_state(scene, rng)
-    if floor:
+    if floor == "rim":  # ends under the block's top face, and the guided loaded end above it
+        scene = Scene(L=12.0, load=0.25, k_fr=0.8, ends="guided", pore_length=9.0)
+        r, t = random_state(scene, rng, lateral=1.05)
+        r[-1, :2] = (1.1, 0.0)
+        ends = np.concatenate([r - 0.5 * scene.l0 * t, r + 0.5 * scene.l0 * t])
+        par = scene.params()
+        assert sum(K._face_point(*p, par, False) > 0 for p in ends) >= 1
+    else:
+        scene = Scene(L=12.0, load=0.25, k_fr=0.8, lower_end="free" if floor else "held", floor=floor)
+        r, t = random_state(scene, rng)
+    if floor is True:
         r[:, 2] -= 0.3  # some link ends below the piston
     stepper = ImplicitStepper(scene, dt=10.0)
     stepper._start_step(RunState(r=r, t=t), 10.0)

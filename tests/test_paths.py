@@ -210,3 +210,42 @@ def test_the_fold_threshold_scales_as_one_over_R_squared():
     (lo1, hi1), (lo2, hi2) = out
     assert max(lo1, lo2) <= min(hi1, hi2)  # the brackets overlap
     assert hi1 < theory.helix_load_limit(1.0, 1.0)
+
+
+def test_a_helix_well_below_the_escape_threshold_never_leaves_an_open_entrance():
+    """Open entrance: the loaded end guided, a free span g = 5 R above the entrance, whose
+    loop escapes above ~pi^2 EI/g^2 = 0.39 EI/R^2 (measured 0.38 at L/R = 80).  At 0.15,
+    well below, the rod forms a helix, and no link end ever gets beyond the pore radius
+    above the entrance: the shapes of the whole run stay within 1.0 R (a helix pushes the
+    span outwards, to 0.9 R measured, never out)."""
+    sc = Scene(L=40.0, load=0.15, k_fr=0.8, seed=1, ends="guided", pore_length=35.0, name="open")
+    ds = paths.event(sc)
+    assert int(ds.converged) == 1 and int(ds.escaped) == 0
+    assert float(ds.snap_outside_radius.max()) < 1.0
+    assert float(ds.snap_L_z[-1]) > 0.85 * sc.L
+
+
+def test_the_escape_threshold_is_eulers_load_of_the_free_span():
+    """Above the entrance the span g between the guided loaded end and the rim is a column
+    laterally held at both ends: it bows out of the pore at about pi^2 EI/g^2, before the
+    rod folds inside the pore (0.66 EI/R^2) when g >= 4 R (measured 0.90-1.02 times it for
+    g = 4-8 R at L/R = 80), and with every length scaled with R it scales as 1/R^2.  The
+    bracket at 5 % must overlap [0.8, 1.1] pi^2 EI/g^2 and the run above it must escape."""
+    from confined_rod import theory
+
+    for R in (1.0, 2.0):
+        sc = Scene(L=20.0 * R, R=R, l0=R, k_ph=1000.0 * R, k_w=1000.0 / R, k_fr=0.8, seed=1,
+                   ends="guided", pore_length=14.0 * R, name="span")
+        ds = paths.fold_threshold(sc, 5e-2)
+        lo, hi = float(ds.threshold_lo[0]), float(ds.threshold_hi[0])
+        euler = theory.span_euler_load(1.0, 6.0 * R)
+        assert 0.8 * euler <= hi and lo <= 1.1 * euler, (R, lo / euler, hi / euler)
+        assert int(ds.escaped_above[0]) == 1
+
+
+def test_an_unguided_end_above_the_entrance_is_refused_in_the_escape_figure():
+    from confined_rod.figures import escape
+
+    built = {"ev": Scene(L=40.0, load=0.5, pore_length=35.0, name="ev")}
+    with pytest.raises(Exception, match=r"scenes\.ev: pore_length = 35 < L = 40 with ends = 'free'.*guided"):
+        escape.validate("fig8", {"runs": {"ev": "event"}}, built)

@@ -304,8 +304,9 @@ def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
                         f"load {scene.load:g}, k_fr = {scene.k_fr:g}, seed {scene.seed}", params)
 
 
-# -- the fold (U-bend) at large loads (Fig 8) ----------------------------------------------------
+# -- the fold (U-bend) and the escape at large loads (Fig 8) ------------------------------------
 FOLDED_LZ = 0.5  # a rod whose L_z has fallen below this fraction of L has folded (or escaped)
+FOLLOW_ESCAPE = 4.0  # an escaping event run goes on to this multiple of its escape time
 
 
 def folded(scene: Scene, st: RunState) -> bool:
@@ -314,25 +315,60 @@ def folded(scene: Scene, st: RunState) -> bool:
 
 
 def fold_threshold(scene: Scene, precision: float) -> xr.Dataset:
-    """The load above which a fresh run of the scene folds (or escapes), by bisection
-    from theory.fold_bracket."""
-    found = {"fold": bisect_threshold(scene, folded, *theory.fold_bracket(scene.R, scene.EI), precision)}
-    return _threshold_dataset(scene, found, {"precision": precision, "folded_L_z": FOLDED_LZ},
-                              f"Fold threshold of '{scene.name}': L/R = {scene.L / scene.R:g}")
+    """The load above which a fresh run of the scene folds or escapes, by bisection from
+    theory.fold_bracket; records which of the two the run just above the threshold did."""
+    outcome = {}
+
+    def above(sc: Scene, st: RunState) -> bool:
+        outcome[sc.load] = st.escaped
+        return folded(sc, st)
+
+    span = scene.free_span()
+    lo, hi, n = bisect_threshold(scene, above, *theory.fold_bracket(scene.R, scene.EI, span), precision)
+    ds = _threshold_dataset(scene, {"fold": (lo, hi, n)},
+                            {"precision": precision, "folded_L_z": FOLDED_LZ, "free_span": span},
+                            f"Fold / escape threshold of '{scene.name}': L/R = {scene.L / scene.R:g}, "
+                            f"free span {span / scene.R:g} R above the entrance")
+    ds["escaped_above"] = variable(("threshold",), np.array([outcome[hi]], dtype=np.int8), "escaped_above")
+    return ds
+
+
+def outside_radius(scene: Scene, r: np.ndarray, t: np.ndarray) -> float:
+    """Largest distance from the axis of a link end above the pore entrance (0 if none),
+    the guided loaded end (in its guide) aside: beyond R the rod has left the pore."""
+    h = 0.5 * scene.l0
+    ends = np.concatenate([r - h * t, r + h * t])
+    if scene.ends == "guided":
+        ends = ends[:-1]
+    above = ends[:, 2] > scene.pore_length
+    return float(np.hypot(ends[above, 0], ends[above, 1]).max()) if above.any() else 0.0
 
 
 def event(scene: Scene) -> xr.Dataset:
     """A fresh run of the scene with shapes at simulated times doubling from its first
-    step (a few dozen), with L_z of each: the figure picks its frames by what the rod
-    does (the fold starting, half folded, the end state)."""
+    step (a few dozen), with L_z and outside_radius of each: the figure picks its frames
+    by what the rod does.  A run that escapes is followed on, past the escape, to
+    FOLLOW_ESCAPE times its escape time (the rod leaving the pore)."""
     st = start(scene)
-    snaps = [(0.0, st.r.copy(), st.t.copy())] + _relax_with_shapes(scene, st, STEPPERS[scene.solver](scene))
+    stepper = STEPPERS[scene.solver](scene)
+    snaps = [(0.0, st.r.copy(), st.t.copy())] + _relax_with_shapes(scene, st, stepper)
+    t_escape = st.time if st.escaped else np.nan
+    if st.escaped:
+        t_next = t_escape
+        while t_next < FOLLOW_ESCAPE * t_escape * (1 - 1e-12) and not st.converged:
+            t_next = min(SNAP_GROWTH * t_next, FOLLOW_ESCAPE * t_escape)
+            relax(scene, st, stepper, t_end=t_next, progress=False, follow_escape=True)
+            snaps.append((st.time, st.r.copy(), st.t.copy()))
     data = _shape_variables(scene, snaps)
     data["snap_L_z"] = variable(("snapshot",), [obs.compute(scene, s[1], s[2]).L_z for s in snaps], "L_z")
+    data["snap_outside_radius"] = variable(("snapshot",), [outside_radius(scene, s[1], s[2]) for s in snaps],
+                                           "outside_radius")
     data["converged"] = variable((), np.int8(st.converged), "converged")
     data["escaped"] = variable((), np.int8(st.escaped), "escaped")
     coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "time"),
               "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
     ds = xr.Dataset(data, coords=coords)
+    extra = {"snap_growth": SNAP_GROWTH, "free_span": scene.free_span(), "follow_escape": FOLLOW_ESCAPE,
+             "escape_time": float(t_escape) if st.escaped else "none"}
     return finalize(ds, f"Run of '{scene.name}' with shapes along the way: L/R = {scene.L / scene.R:g}, "
-                        f"load {scene.load:g}", dict(scene.to_dict()) | {"snap_growth": SNAP_GROWTH})
+                        f"load {scene.load:g}", dict(scene.to_dict()) | extra)

@@ -55,8 +55,9 @@ SCENE_PARAMETERS = [
     _param("body_force", r"\mathbf{f}_{ext}", "external force per unit length (fx, fy, fz) on every link", "EI R-3",
            {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}),
     _param("pore_length", "z_{entr}", "height of the open pore entrance (default L)", "R", _POS_OR_DEFAULT),
-    _param("ends", "", "lateral end condition: free (paper) or pinned on the axis", "1",
-           {"enum": ["free", "pinned"]}),
+    _param("ends", "", "lateral end condition: free (paper), pinned on the axis, or guided "
+           "(free, the loaded end kept within R above the entrance)", "1",
+           {"enum": ["free", "pinned", "guided"]}),
     _param("lower_end", "", "lower end held in z (paper) or free", "1", {"enum": ["held", "free"]}),
     _param("floor", "", "the lower piston at z = 0 is a wall for the whole rod", "1", {"type": "boolean"}),
     _param("protocol", "", "start: straight rod + 3-D perturbation, planar, or planar then 3-D", "1",
@@ -224,6 +225,13 @@ _Q = SCENE_PARAMETERS + [
     Quantity("detached_bottom", "L - s_e", "length of the detached lower end (last wall contact to the support)", "R"),
     Quantity("end_contact_force", "N_{end}", "wall force on the link of the detached end's tip that touches the wall",
              "EI R-2"),
+    # Fig 8: fold and escape
+    Quantity("escaped_above", "", "the run just above the threshold left the pore (1) or folded inside it (0)", "1"),
+    Quantity("outside_radius", r"\rho_{out}", "largest distance from the axis of a link end above the pore "
+             "entrance (0 if none; beyond R the rod has left the pore)", "R"),
+    Quantity("free_span", "g", "free span: length of rod above the pore entrance at the start, between the "
+             "guided loaded end and the entrance", "R"),
+    Quantity("span_euler_load", "F_g", "Euler's load pi^2 EI/g^2 of the free span (pinned-pinned)", "EI R-2"),
     Quantity("snap_x", "x", "x coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_y", "y", "y coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_z", "z", "z coordinate of the link centre (snapshot)", "R"),

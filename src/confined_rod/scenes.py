@@ -64,7 +64,10 @@ class Scene:
     Boundary conditions and protocol:
       pore_length  z of the open pore entrance (default L: the top of the unloaded rod);
                    with pore_length < L the upper part starts outside the pore
-      ends         'free': both ends free sideways (paper); 'pinned': held on the axis
+      ends         'free': both ends free sideways (paper); 'pinned': held on the axis;
+                   'guided': free, and the loaded end slides in a guide of radius R
+                   (the pusher's sleeve) that continues above a pore entrance set lower
+                   by pore_length: the rod between them can leave the pore (Fig 8)
       lower_end    'held': z of the lower end held at 0 (paper); 'free'
       floor        the lower piston at z = 0 is a wall for the whole rod (True), so
                    the rod cannot fold down past its support; False: no floor
@@ -147,6 +150,12 @@ class Scene:
         return discrete_constants(self.L, self.R, self.EI, self.l0, self.k_ph, self.k_w,
                                   self.rotational_drag, self.bending_constant)
 
+    def free_span(self) -> float:
+        """Length of the rod above the pore entrance at the start, L - pore_length (0 if
+        the entrance is at or above the top): with ends = 'guided' the free span between
+        the guided loaded end and the entrance."""
+        return max(0.0, self.L - self.pore_length)
+
     def C_l0(self) -> float:
         """The bending stiffness the joints represent, C l0: EI, or EI R/l0 as printed."""
         return self.constants().C * self.l0
@@ -174,6 +183,7 @@ class Scene:
         p[K.GAMMA_T] = c.beta
         p[K.GAMMA_R] = c.gamma_r
         p[K.FLOOR] = 1.0 if self.floor else 0.0
+        p[K.GUIDED] = 1.0 if self.ends == "guided" else 0.0
         return p
 
     def initial_state(self) -> tuple[np.ndarray, np.ndarray]:

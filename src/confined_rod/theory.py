@@ -117,7 +117,20 @@ def helix_load_limit(R: float, EI: float) -> float:
     return 4.0 / (3.0 * np.sqrt(3.0)) * EI / R**2
 
 
-def fold_bracket(R: float, EI: float) -> tuple[float, float]:
-    """Load bracket of the fold (U-bend) threshold's bisection: (0.3, 1.2) EI/R^2, about the
-    helix limit 0.77 EI/R^2 (measured thresholds 0.61-0.67 EI/R^2, docs/model.md, 'Fig 8')."""
-    return 0.3 * EI / R**2, 1.2 * EI / R**2
+def span_euler_load(EI: float, span: float) -> float:
+    """pi^2 EI/g^2: Euler's load of a free span of length g between two laterally
+    guided points (pinned-pinned), the rod between the guided loaded end and the pore
+    entrance g below it.  Above it the span bows out of the pore: the escape of Fig 8
+    (measured 0.90-1.02 times this for g = 4-8 R, docs/model.md, 'Fig 8')."""
+    return np.pi**2 * EI / span**2
+
+
+def fold_bracket(R: float, EI: float, span: float = 0.0) -> tuple[float, float]:
+    """Load bracket of the fold (U-bend) or escape threshold's bisection: (0.3, 1.2) EI/R^2,
+    about the helix limit 0.77 EI/R^2 (measured fold thresholds 0.61-0.67 EI/R^2,
+    docs/model.md, 'Fig 8'); with a free span g above the entrance, its lower end is
+    lowered to half the span's Euler load where that is smaller."""
+    lo = 0.3 * EI / R**2
+    if span > 0:
+        lo = min(lo, 0.5 * span_euler_load(EI, span))
+    return lo, 1.2 * EI / R**2

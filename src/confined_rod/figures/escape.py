@@ -1,15 +1,27 @@
-"""Kind ``escape`` (paper Fig 8): at too large a load the rod folds over (U-bend)
-instead of forming a helix; the threshold against L/R and R.
+"""Kind ``escape`` (paper Fig 8): at too large a load the rod folds over (U-bend) or a
+loop of it leaves the pore instead of forming a helix; the thresholds against L/R, R and
+the pore entrance.
+
+The pore entrance (docs/model.md, 'Fig 8').  With the entrance at the top of the unloaded
+rod (the default) the loaded end is inside the pore, and the rod can only fold inside it.
+For a loop to leave, rod must lie above the entrance; a free loaded end up there tips over
+the rim at any load, an artefact.  So the open entrance is modelled as the paper's pore with
+a pusher: the loaded end slides in a guide of radius R (``ends: guided``), a free span
+g = L - pore_length above the entrance, and the solid around the pore (its wall and its
+frictionless top face) below it.  "Escape" is a link end above the entrance more than
+0.1 R outside the pore's radius.
 
 Scenes are run by the rule ``load_path``: ``fold_threshold`` scenes find the load above
-which a fresh run folds (L_z < L/2) or leaves the pore, by bisection
-(confined_rod.paths.fold_threshold); the one ``event`` scene is a run with shapes at
-doubling simulated times (confined_rod.paths.event), from which the figure picks its
-frames by what the rod does: (a) the last shape with L_z >= 0.8 L (the fold starting),
-(b) the first with L_z < L/2 (the U-bend), (c) the end state.  The threshold is drawn
-in units of EI/R^2 against L/R for two R, so the paper's claim that it scales as 1/R^2
-is read off directly, beside the largest load a helix on the wall can carry,
-4/(3 sqrt 3) EI/R^2, and the paper's load 0.5 EI/R^2.
+which a fresh run folds (L_z < L/2) or escapes, by bisection (confined_rod.paths.fold_threshold,
+which records which of the two happened just above it); the one ``event`` scene is a run
+with shapes at doubling simulated times, followed past an escape (confined_rod.paths.event).
+The frames are picked by what the rod does: for an escape (a) the last shape before the
+loop crosses the pore radius, (b) the loop out at the entrance, (c) the end of the run; for
+a fold (a) the last shape with L_z >= 0.8 L, (b) the first with L_z < L/2, (c) the end state.
+Thresholds are drawn in units of EI/R^2 against L/R for two R (the paper's 1/R^2 claim is
+read off directly) and against the free span g/R, beside Euler's load of the span
+pi^2 EI/g^2, the largest load a helix on the wall can carry, 4/(3 sqrt 3) EI/R^2, and the
+paper's load.
 """
 from __future__ import annotations
 
@@ -33,7 +45,9 @@ OPTIONS = {
     "paper_load": {"type": "number", "exclusiveMinimum": 0,
                    "description": "the load (EI/R^2) at which the paper shows the event"},
 }
-START, FOLDED = 0.8, 0.5  # L_z/L of frames (a) and (b)
+START, FOLDED = 0.8, 0.5  # L_z/L of the fold's frames (a) and (b)
+ESCAPE_RADIUS = 1.1  # R: a link end this far from the axis above the entrance has left (model.kernels.escaped)
+VIEW = 24.0  # R: the frames show the top of the pore, this far below the entrance, and what is above it
 
 
 def path_spec(fig_cfg, scene: str) -> dict:
@@ -41,7 +55,8 @@ def path_spec(fig_cfg, scene: str) -> dict:
 
 
 def varied(fig_cfg) -> tuple[str, ...]:
-    return ("L", "R", "l0", "k_ph", "k_w", "load", "friction_cap", "perturbation", "kick", "dx_max", "t_max")
+    return ("L", "R", "l0", "k_ph", "k_w", "load", "friction_cap", "perturbation", "kick", "dx_max", "t_max",
+            "pore_length", "ends")
 
 
 def validate(figure, fig_cfg, built) -> None:
@@ -50,6 +65,11 @@ def validate(figure, fig_cfg, built) -> None:
     missing = [n for n in built if n not in runs]
     if missing:
         raise ConfigError(f"figures.{figure}.runs: no run given for the scene(s) {', '.join(missing)}")
+    for n, sc in built.items():
+        if sc.free_span() > 0 and sc.ends != "guided":
+            raise ConfigError(f"figures.{figure}.scenes.{n}: pore_length = {sc.pore_length:g} < L = {sc.L:g} "
+                              f"with ends = {sc.ends!r}: the unguided loaded end above the entrance tips over the "
+                              "rim at any load; use ends: guided (the pusher's guide)")
     events = [n for n in built if runs[n] == "event"]
     thr = [n for n in built if runs[n] == "fold_threshold"]
     if len(events) != 1 or len(thr) < 3:
@@ -62,28 +82,41 @@ def validate(figure, fig_cfg, built) -> None:
         raise ConfigError(f"figures.{figure}.scenes: the thresholds need at least three aspect ratios and two R")
 
 
+def _geometry(sc) -> str:
+    g = sc.free_span() / sc.R
+    return "entrance at the top of the rod" if g == 0 else f"guided end, free span g = {g:g} R"
+
+
 def caption(figure, fig_cfg, built) -> str:
     runs = fig_cfg["runs"]
     ev = next(sc for n, sc in built.items() if runs[n] == "event")
     thr = [sc for n, sc in built.items() if runs[n] == "fold_threshold"]
-    pts = ", ".join(f"L/R = {sc.L / sc.R:g} (R = {sc.R:g})" for sc in thr)
+    pts = "; ".join(f"L/R = {sc.L / sc.R:g}, R = {sc.R:g}, {_geometry(sc)}" for sc in thr)
     paper = fig_cfg.get("paper_load")
-    return (f"At too large a load the rod folds over instead of forming a helix: a rod of L/R = {ev.L / ev.R:g} "
-            f"under {ev.load:g} EI/R^2, k_fr = {ev.k_fr:g}, from the straight start. (a) the fold starting "
-            f"(last shape with L_z >= {START:g} L), (b) the U-bend (first shape with L_z < {FOLDED:g} L), (c) the "
-            "end state; side views, z along the pore, x across it (wall at +-R), shaded by depth. "
-            f"(d) Fold threshold times R^2/EI by bisection (fresh runs, L_z < L/2 or escape) for {pts}, "
-            "beside the largest load a helix on the wall can carry, 4/(3 sqrt 3) EI/R^2"
-            + (f", and the paper's load {paper:g} EI/R^2, at which the paper shows the event; the event is "
-               "drawn at the load given here, which the build checks lies above the thresholds found" if paper else "")
-            + ". The default pore geometry (entrance at the top of the unloaded rod, loaded end free inside the "
-            "pore) contains the fold: the rod does not leave the pore.")
+    return (f"At too large a load the rod does not form a helix. (a)-(c) A rod of L/R = {ev.L / ev.R:g} under "
+            f"{ev.load:g} EI/R^2, k_fr = {ev.k_fr:g}, from the straight start, {_geometry(ev)}: for an escape (a) the "
+            f"last shape before a loop crosses the pore radius above the entrance, (b) the loop out of the pore (a "
+            f"link end {ESCAPE_RADIUS:g} R from the axis), (c) the end of the run, followed on to 4x the escape time; "
+            f"for a fold (a) the last shape with L_z >= {START:g} L, (b) the first with L_z < {FOLDED:g} L, (c) the "
+            f"end state. Side views of the top {VIEW:g} R of the pore, z along it, x across it (wall at +-R, the "
+            "solid around the pore hatched), shaded by depth. (d) Threshold times R^2/EI by bisection (fresh runs; "
+            "filled: a loop escaped just above it, open: the rod folded inside the pore) against L/R, and (e) "
+            f"against the free span g between the guided loaded end and the entrance, for {pts}; beside Euler's "
+            "load of the span pi^2 EI/g^2 and the largest load a helix on the wall can carry, 4/(3 sqrt 3) EI/R^2"
+            + (f", and the paper's load {paper:g} EI/R^2 (pore entrance not stated in the paper)" if paper else "")
+            + ". The paper's frames show the upper half of the pore; here its top only, where the event happens.")
 
 
-def _frames(L_z: np.ndarray, L: float) -> list[int]:
+def _frames(ds: xr.Dataset, L: float) -> list[int]:
+    if int(ds["escaped"]):
+        rho = ds["snap_outside_radius"].values
+        out = int(np.flatnonzero(rho > ESCAPE_RADIUS - 1e-9)[0])
+        before = np.flatnonzero(rho[:out] <= 1.0)
+        return [int(before[-1]) if before.size else 0, out, len(rho) - 1]
+    L_z = ds["snap_L_z"].values
     if not L_z[-1] < FOLDED * L:
-        raise ValueError(f"the event run did not fold (final L_z = {L_z[-1]:.4g} >= {FOLDED:g} L): its load lies "
-                         "below the fold threshold; raise it above the thresholds found")
+        raise ValueError(f"the event run neither escaped nor folded (final L_z = {L_z[-1]:.4g} >= {FOLDED:g} L): "
+                         "its load lies below the threshold; raise it above the thresholds found")
     start = int(np.flatnonzero(L_z >= START * L)[-1])
     folded = int(np.flatnonzero(L_z < FOLDED * L)[0])
     return [start, folded, len(L_z) - 1]
@@ -95,66 +128,115 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     thr = [n for n in sims if runs[n] == "fold_threshold"]
     ev = sims[ev_name]
     L, R, EI, load = (float(ev.attrs[k]) for k in ("L", "R", "EI", "load"))
-    frames = _frames(ev["snap_L_z"].values, L)
+    frames = _frames(ev, L)
     data = {f"frame_{c}": variable(("frame", "link"), ev[f"snap_{c}"].values[frames], c) for c in "xyz"}
     data["frame_time"] = variable(("frame",), ev["snap_time"].values[frames], "time")
     data["frame_L_z"] = variable(("frame",), ev["snap_L_z"].values[frames], "L_z")
-    scale = np.array([float(sims[n].attrs["R"]) ** 2 / float(sims[n].attrs["EI"]) for n in thr])
+    data["frame_outside_radius"] = variable(("frame",), ev["snap_outside_radius"].values[frames], "outside_radius")
+    R_thr = np.array([float(sims[n].attrs["R"]) for n in thr])
+    scale = R_thr**2 / np.array([float(sims[n].attrs["EI"]) for n in thr])
     lo = np.array([float(sims[n]["threshold_lo"].values[0]) for n in thr])
     hi = np.array([float(sims[n]["threshold_hi"].values[0]) for n in thr])
-    if load * R**2 / EI < (hi * scale).max():
-        raise ValueError(f"event load {load * R**2 / EI:g} EI/R^2 lies below a fold threshold found "
-                         f"({(hi * scale).max():.4g} EI/R^2); raise it")
     data["threshold_lo"] = variable(("aspect",), lo, "threshold_lo")
     data["threshold_hi"] = variable(("aspect",), hi, "threshold_hi")
     data["threshold_R2_over_EI"] = variable(("aspect",), scale, "R2_over_EI")
-    data["aspect_R"] = variable(("aspect",), [float(sims[n].attrs["R"]) for n in thr], "R")
+    data["escaped_above"] = variable(("aspect",), np.array([int(sims[n]["escaped_above"].values[0]) for n in thr],
+                                                           dtype=np.int8), "escaped_above")
+    data["aspect_R"] = variable(("aspect",), R_thr, "R")
+    data["free_span"] = variable(("aspect",), [float(sims[n].attrs["free_span"]) for n in thr], "free_span")
     data["aspect_scene"] = scene_coord("aspect", thr)
     coords = {"frame": variable(("frame",), np.array(["a", "b", "c"], dtype=object), "frame"),
               "aspect": variable(("aspect",), [float(sims[n].attrs["L"]) / float(sims[n].attrs["R"]) for n in thr],
                                  "aspect"),
               "s_link": variable(("link",), ev["s_link"].values, "s_link")}
     ds = xr.Dataset(data, coords=coords)
+    closed = data["free_span"].values == 0
     ds.attrs.update({"event_load": load, "event_L": L, "event_R": R, "event_escaped": int(ev["escaped"]),
+                     "event_pore_length": float(ev.attrs["pore_length"]),
+                     "event_free_span": float(ev.attrs["free_span"]),
                      "helix_limit": theory.helix_load_limit(1.0, 1.0),
                      "paper_load": float(fig_cfg.get("paper_load", 0.0)),
-                     "fold_threshold_range": [float((lo * scale).min()), float((hi * scale).max())]})
+                     "fold_threshold_range": ([float((lo * scale)[closed].min()), float((hi * scale)[closed].max())]
+                                              if closed.any() else "none")})
     return ds
+
+
+def _strip(ax, ds, i, R, L, top):
+    x, y, z = (ds[f"frame_{c}"].values[i] for c in "xyz")
+    side_strip(ax, x, y, z, R, top - VIEW * R, max(L, float(z.max())) + R, lw=1.6,
+               entrance=top if ds.attrs["event_free_span"] > 0 else None)
 
 
 def plot(ds: xr.Dataset):
     from matplotlib.gridspec import GridSpec
 
-    R = float(ds.attrs["event_R"])
-    L = float(ds.attrs["event_L"])
-    fig = P.plt.figure(figsize=(7.2, 6.8))
-    gs = GridSpec(4, 1, figure=fig, height_ratios=[1, 1, 1, 2.0], hspace=0.8)
-    titles = {"a": "the fold starting", "b": "the U-bend", "c": "end state"}
+    R, L, top = (float(ds.attrs[k]) for k in ("event_R", "event_L", "event_pore_length"))
+    escaped = bool(ds.attrs["event_escaped"])
+    fig = P.plt.figure(figsize=(7.2, 7.4))
+    gs = GridSpec(4, 2, figure=fig, height_ratios=[1, 1, 1, 2.3], hspace=0.85, wspace=0.42)
+    titles = ({"a": "the span bowing", "b": "a loop out of the pore", "c": "end of the run"} if escaped
+              else {"a": "the fold starting", "b": "the U-bend", "c": "end state"})
     for i, f in enumerate(ds["frame"].values):
-        ax = fig.add_subplot(gs[i, 0])
-        x, y, z = (ds[f"frame_{c}"].values[i] for c in "xyz")
-        side_strip(ax, x, y, z, R, -R, L + R, lw=1.6)
+        ax = fig.add_subplot(gs[i, :])
+        _strip(ax, ds, i, R, L, top)
         ax.set_title(f"({f}) {titles[f]}: $t = {float(ds.frame_time.values[i]):.4g}$, "
-                     rf"$L_z = {float(ds.frame_L_z.values[i]):.1f}\,R$", fontsize=8.5, loc="left")
+                     rf"$L_z = {float(ds.frame_L_z.values[i]):.1f}\,R$, "
+                     rf"$\rho_{{out}} = {float(ds.frame_outside_radius.values[i]):.2f}\,R$", fontsize=8.5, loc="left")
         if i == 2:
             ax.set_xlabel(r"$z$ [$R$]")
+    s = ds["threshold_R2_over_EI"].values
+    mid = 0.5 * (ds.threshold_lo.values + ds.threshold_hi.values) * s
+    err = 0.5 * (ds.threshold_hi.values - ds.threshold_lo.values) * s
+    g = ds["free_span"].values / ds["aspect_R"].values
+    esc = ds["escaped_above"].values.astype(bool)
+    g_ev = ds.attrs["event_free_span"] / R
+
+    def points(ax, xv, m, mk, lab):
+        for e, fill in ((True, "black"), (False, "white")):
+            k = m & (esc == e)
+            if k.any():
+                ax.errorbar(xv[k], mid[k], yerr=err[k], fmt=mk, color="black", mfc=fill, ms=5, capsize=2,
+                            label=lab + (", escape" if e else ", fold"))
+
     bx = fig.add_subplot(gs[3, 0])
     a = ds["aspect"].values
-    s = ds["threshold_R2_over_EI"].values
-    lo, hi = ds.threshold_lo.values * s, ds.threshold_hi.values * s
-    for Rv, mk in zip(sorted(set(ds.aspect_R.values)), ("o", "s", "D")):
-        m = ds.aspect_R.values == Rv
-        bx.errorbar(a[m], 0.5 * (lo[m] + hi[m]), yerr=0.5 * (hi[m] - lo[m]), fmt=mk, color="black", ms=5,
-                    mfc="white" if mk != "o" else "black", capsize=2, label=f"fold threshold, $R = {Rv:g}$")
-    bx.axhline(ds.attrs["helix_limit"], **P.MODEL, label=r"largest helix load $4/(3\sqrt{3})\,EI/R^2$")
+    for (gv, Rv), mk in zip(sorted({(gi, Ri) for gi, Ri in zip(g, ds.aspect_R.values)
+                                    if gi == 0 or np.isclose(gi, g_ev)}), "osD^v<>"):
+        m = np.isclose(g, gv) & (ds.aspect_R.values == Rv)
+        points(bx, a, m, mk, f"$g={gv:g}R$, $R={Rv:g}$")
+    bx.axhline(ds.attrs["helix_limit"], **P.MODEL, label=r"largest helix load $4/(3\sqrt{3})$")
+    if g_ev > 0:
+        bx.axhline(np.pi**2 / g_ev**2, color="tab:green", ls="--", lw=1.1, label=rf"$\pi^2 EI/g^2$, $g = {g_ev:g}R$")
     if ds.attrs["paper_load"]:
-        bx.axhline(ds.attrs["paper_load"], **P.PAPER, label="the paper's load of the event")
-    bx.plot([L / R], [ds.attrs["event_load"] * R**2], "*", color="tab:red", ms=10, label="the run drawn above")
+        bx.axhline(ds.attrs["paper_load"], **P.PAPER, label="the paper's load")
+    bx.plot([L / R], [ds.attrs["event_load"] * R**2], "*", color="tab:red", ms=10, label="(a)-(c)")
     bx.set_xscale("log")
     P.plain_log_ticks(bx.xaxis)
-    bx.set_ylim(0.3, 1.2)
+    bx.set_ylim(0.2, 1.6)
     bx.set_xlabel(label("aspect"))
-    bx.set_ylabel(r"load $\times\ R^2/EI$")
-    bx.set_title("(d) fold threshold against L/R", fontsize=8.5, loc="left")
-    bx.legend(fontsize=7, ncol=2, loc="upper left")
+    bx.set_ylabel(r"threshold load $\times\ R^2/EI$")
+    bx.set_title("(d) against L/R", fontsize=8.5, loc="left")
+    bx.legend(fontsize=5.5, ncol=2, loc="upper left")
+
+    cx = fig.add_subplot(gs[3, 1])
+    scan = g > 0
+    if scan.any():
+        aspect = a[scan][np.argmax(np.bincount(np.unique(a[scan], return_inverse=True)[1]))]
+        m = np.isclose(a, aspect) & (ds.aspect_R.values == R)
+        points(cx, g, m & scan, "^", f"$L/R = {aspect:g}$")
+        gg = np.geomspace(0.7 * g[scan].min(), 1.4 * g[scan].max(), 100)
+        cx.plot(gg, np.pi**2 / gg**2, color="tab:green", ls="--", lw=1.1, label=r"$\pi^2 EI/g^2$")
+        fold = m & (g == 0)
+        if fold.any():
+            cx.axhspan((mid - err)[fold].min(), (mid + err)[fold].max(), color="0.8", label="fold threshold, $g = 0$")
+        cx.axhline(ds.attrs["helix_limit"], **P.MODEL)
+        if ds.attrs["paper_load"]:
+            cx.axhline(ds.attrs["paper_load"], **P.PAPER)
+        cx.set_xscale("log")
+        cx.set_yscale("log")
+        P.plain_log_ticks(cx.xaxis)
+        cx.legend(fontsize=6, loc="lower left")
+    cx.set_xlabel(r"free span $g$ [$R$]")
+    cx.set_ylabel(r"threshold load $\times\ R^2/EI$")
+    cx.set_title("(e) against the free span", fontsize=8.5, loc="left")
     return fig

@@ -137,15 +137,22 @@ def _tube(ax, x, z, y, R, lw=2.4):
     return lc
 
 
-def side_strip(ax, x, y, z, R, z0, z1, lw=2.0) -> None:
+def side_strip(ax, x, y, z, R, z0, z1, lw=2.0, entrance=None) -> None:
     """A rod lying along the pore, drawn as a horizontal strip: z along the pore, x across
-    it (wall at +-R), the tube shaded by depth y (Figs 2 and 8)."""
-    ax.axhspan(-R, R, color="0.96", zorder=0)
+    it (wall at +-R), the tube shaded by depth y (Figs 2 and 8).  With ``entrance`` the
+    pore ends there: the solid around it is hatched and open space lies beyond."""
+    top = z1 if entrance is None else entrance
+    half = max(1.35 * R, 1.1 * float(np.abs(x).max()))
+    ax.fill_between([z0, top], -R, R, color="0.96", zorder=0, lw=0)
     for xw in (-R, R):
-        ax.axhline(xw, color="0.55", lw=0.9, zorder=1)
+        ax.plot([z0, top], [xw, xw], color="0.55", lw=0.9, zorder=1)
+    if entrance is not None:
+        for sgn in (-1, 1):
+            ax.fill_between([z0, entrance], sgn * R, sgn * half, facecolor="none", edgecolor="0.7", hatch="///",
+                            lw=0, zorder=0)
     _tube(ax, z, x, y, R, lw=lw)
     ax.set_xlim(z0, z1)
-    ax.set_ylim(-1.35 * R, 1.35 * R)
+    ax.set_ylim(-half, half)
     ax.set_yticks([-R, 0, R])
     ax.set_ylabel(r"$x$ [$R$]")
 

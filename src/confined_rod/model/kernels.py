@@ -35,7 +35,8 @@ ENDS_PINNED = 14  # 1: both ends held on the axis laterally (Euler test); 0: fre
 GAMMA_T = 15  # translational drag per link
 GAMMA_R = 16  # rotational drag per link
 FLOOR = 17  # 1: the lower piston at z = 0 is a one-sided wall (stiffness k_w) for every link end
-NPAR = 18
+GUIDED = 18  # 1: the loaded end point slides in a guide of radius R: it feels the wall above the entrance too
+NPAR = 19
 
 
 @njit(cache=True)
@@ -62,29 +63,55 @@ def bond_forces(r, t, par, Fm, Fp):
 
 
 @njit(cache=True)
-def _wall_point(px, py, pz, par):
-    """Radial overlap of one end point with the wall (0 if inside or above the pore)."""
-    if pz > par[Z_TOP]:
-        return 0.0, 0.0, 0.0
+def _wall_point(px, py, pz, par, guided):
+    """Radial overlap of one end point with the pore wall: 0 inside the pore, above
+    the entrance (unless the point is ``guided``: the loaded end in its guide), and
+    where the point is nearer the block's top face than the wall (_face_point)."""
     rho = np.sqrt(px * px + py * py)
     d = rho - par[R_WALL]
-    if d <= 0.0:
+    if d <= 0.0 or (not guided and d > par[Z_TOP] - pz):
         return 0.0, 0.0, 0.0
     return d, px / rho, py / rho
 
 
 @njit(cache=True)
+def _face_point(px, py, pz, par, guided):
+    """Depth of one end point below the top face z = z_top of the block around the
+    pore, where that face is its nearest way out of the block (rho - R > z_top - z
+    >= 0); 0 elsewhere.  With _wall_point this penalises the point's distance to
+    the block's surface, continuous across the entrance's rim."""
+    if guided or pz > par[Z_TOP]:
+        return 0.0
+    dz = par[Z_TOP] - pz
+    if np.sqrt(px * px + py * py) - par[R_WALL] > dz:
+        return dz
+    return 0.0
+
+
+@njit(cache=True)
+def is_guided(i, sgn, n, par):
+    """True for the upper end point of the top link (the loaded end) when it is guided."""
+    return par[GUIDED] > 0.5 and i == n - 1 and sgn > 0.0
+
+
+@njit(cache=True)
 def wall_forces(r, t, par, Fm, Fp, Nw):
     """One-sided wall penalty (k_w/2)(rho - R)^2 on both ends of every link below
-    the pore entrance; adds end forces, fills Nw, returns energy."""
+    the pore entrance, and (k_w/2)(z_top - z)^2 under the block's frictionless top
+    face (see _face_point); adds end forces, fills Nw (the pore wall's normal force,
+    which friction acts with), returns energy."""
     h = par[HALF]
     kw = par[K_WALL]
     e = 0.0
-    for i in range(r.shape[0]):
+    n = r.shape[0]
+    for i in range(n):
         Nw[i] = 0.0
         for sgn in (-1.0, 1.0):
-            d, nx, ny = _wall_point(r[i, 0] + sgn * h * t[i, 0], r[i, 1] + sgn * h * t[i, 1],
-                                    r[i, 2] + sgn * h * t[i, 2], par)
+            px = r[i, 0] + sgn * h * t[i, 0]
+            py = r[i, 1] + sgn * h * t[i, 1]
+            pz = r[i, 2] + sgn * h * t[i, 2]
+            g = is_guided(i, sgn, n, par)
+            d, nx, ny = _wall_point(px, py, pz, par, g)
             if d > 0.0:
                 f = kw * d
                 if sgn < 0.0:
@@ -95,6 +122,13 @@ def wall_forces(r, t, par, Fm, Fp, Nw):
                     Fp[i, 1] -= f * ny
                 Nw[i] += f
                 e += 0.5 * kw * d * d
+            dz = _face_point(px, py, pz, par, g)
+            if dz > 0.0:
+                if sgn < 0.0:
+                    Fm[i, 2] += kw * dz
+                else:
+                    Fp[i, 2] += kw * dz
+                e += 0.5 * kw * dz * dz
     return e
 
 

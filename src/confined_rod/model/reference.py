@@ -19,8 +19,14 @@ def total_energy(r: np.ndarray, t: np.ndarray, par: np.ndarray) -> float:
     e = 0.5 * par[K.K_BOND] * np.sum(gap**2)
     ends = np.concatenate([rm, rp])
     rho = np.hypot(ends[:, 0], ends[:, 1])
-    over = np.where((rho > par[K.R_WALL]) & (ends[:, 2] <= par[K.Z_TOP]), rho - par[K.R_WALL], 0.0)
-    e += 0.5 * par[K.K_WALL] * np.sum(over**2)
+    # the solid around the pore: depth below its surface, the nearer of the wall rho = R
+    # and the top face z = z_top; the guided loaded end r_{N-1}^+ meets the wall at any z
+    radial = rho - par[K.R_WALL]
+    below_face = par[K.Z_TOP] - ends[:, 2]
+    depth = np.where((radial > 0) & (below_face >= 0), np.minimum(radial, below_face), 0.0)
+    if par[K.GUIDED] > 0.5:
+        depth[-1] = max(radial[-1], 0.0)
+    e += 0.5 * par[K.K_WALL] * np.sum(depth**2)
     if par[K.FLOOR] > 0.5:
         zs = np.concatenate([rm[1:, 2], rp[:, 2]])
         e += 0.5 * par[K.K_WALL] * np.sum(np.minimum(zs, 0.0) ** 2)

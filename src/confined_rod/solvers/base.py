@@ -154,8 +154,10 @@ def _duration(seconds: float) -> str:
 
 
 def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None = None,
-          progress: bool = True, label: str = "") -> RunState:
-    """Advance until equilibrium, escape, or the time cap (t_end or scene.t_max).
+          progress: bool = True, label: str = "", follow_escape: bool = False) -> RunState:
+    """Advance until equilibrium, escape, or the time cap (t_end or scene.t_max);
+    with ``follow_escape`` an escape is recorded but the run goes on to the cap (to
+    show the rod leaving the pore: there is no equilibrium to reach).
     Snapshots (only if scene.snapshot_interval > 0) are taken at their exact times,
     at most limits.snapshot_limit(scene) of them (ResourceLimitError beyond)."""
     par = scene.params()
@@ -178,11 +180,11 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
         t_stop = min(t_cap, next_snap) if snap_dt > 0 else t_cap
         code = stepper.advance(st, t_stop)
         check_state(scene, st.r, st.t, st.steps, st.time, stepper.step_hint)
-        st.escaped = code == K.STOP_ESCAPED
+        st.escaped = st.escaped or code == K.STOP_ESCAPED
         evaluate(par, st.r, st.t, ws)
         st.eps_F, st.eps_M = normalised_residuals(scene, st.t, ws)
         bar.update(st)
-        if st.escaped:
+        if st.escaped and not follow_escape:
             break
         if st.eps_F < tol and st.eps_M < tol:
             st.converged = True

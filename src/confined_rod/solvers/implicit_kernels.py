@@ -207,7 +207,8 @@ def _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab):
 @njit(cache=True)
 def contact_hessian(r, t, frame, e1, e2, par, ab):
     """Exact Hessian of the one-sided contact penalties (wall (k_w/2)(rho - R)^2,
-    floor (k_w/2) z^2) in the step coordinates, added to ab.
+    floor (k_w/2) z^2, the block's top face (k_w/2)(z_top - z)^2) in the step
+    coordinates, added to ab.
 
     These penalties switch on where an end touches (their curvature jumps from
     0 to k_w), and a grazing contact sits within ~1e-8 R of that switch; a
@@ -226,7 +227,8 @@ def contact_hessian(r, t, frame, e1, e2, par, ab):
             px = r[i, 0] + s * h * t[i, 0]
             py = r[i, 1] + s * h * t[i, 1]
             pz = r[i, 2] + s * h * t[i, 2]
-            d, nx, ny = K._wall_point(px, py, pz, par)
+            guided = K.is_guided(i, s, n, par)
+            d, nx, ny = K._wall_point(px, py, pz, par, guided)
             if d > 0.0:
                 rho = np.sqrt(px * px + py * py)
                 c = d / rho
@@ -245,6 +247,14 @@ def contact_hessian(r, t, frame, e1, e2, par, ab):
                 gp[0] = 0.0
                 gp[1] = 0.0
                 gp[2] = kw * pz
+                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab)
+            dz = K._face_point(px, py, pz, par, guided)
+            if dz > 0.0:
+                hp[:, :] = 0.0
+                hp[2, 2] = kw
+                gp[0] = 0.0
+                gp[1] = 0.0
+                gp[2] = -kw * dz
                 _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab)
 
 
