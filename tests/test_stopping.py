@@ -27,6 +27,23 @@ def test_time_cap_flags_not_converged():
     assert float(ds.residual_force) > ds.attrs["tol"]
 
 
+@pytest.mark.parametrize("solver", ["explicit", "implicit"])
+def test_a_step_budget_ends_the_run_as_step_cap_and_is_refused_when_negative(solver):
+    """max_steps is a work budget: the run stops once it has taken exactly that many
+    steps, unconverged, with the reason."""
+    from confined_rod.scenes import SceneError
+    from confined_rod.stability import STATUS, probe
+
+    ds = simulate(Scene(L=10.0, load=0.5, solver=solver, max_steps=30), progress=False)
+    assert ds.attrs["status"] == "step_cap" and int(ds.converged) == 0
+    assert int(ds.n_steps) == 30
+    assert "max_steps = 30" in ds.attrs["status_reason"]
+    p = probe({"L": 10.0, "load": 0.5, "solver": solver, "max_steps": 30})
+    assert STATUS[int(p.status)] == "step_cap" and int(p.has_force) == 1
+    with pytest.raises(SceneError, match="'max_steps': -1"):
+        Scene(max_steps=-1)
+
+
 def test_bonds_tearing_apart_is_reported_as_divergence(monkeypatch):
     # k_ph = 0.5: the load 1 compresses each bond by load l0/k_ph = l0, > l0/2; refused
     # up front (limits.MAX_STRAIN), and caught during the run if let through

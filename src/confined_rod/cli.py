@@ -5,7 +5,7 @@ Exit status of ``run``:
   2  invalid input: a bad scene, an output that cannot be written, a run above the
      time budget, or the snapshot memory cap (nothing is computed, or nothing written);
   3  the run diverged (nothing is written);
-  4  the run ended without equilibrium: time cap reached, or a final state that
+  4  the run ended without equilibrium: time cap or step budget (max_steps) reached, or a final state that
      violates the model; the dataset is written with ``status`` and its reason;
   130 interrupted (nothing is written).
 """

@@ -81,6 +81,8 @@ SCENE_PARAMETERS = [
     _param("tol", r"\mathrm{tol}", "equilibrium tolerance on the normalised force and torque residuals", "1",
            {**_POS, "maximum": limits.TOL_MAX}),
     _param("t_max", "t_{max}", "cap on the simulated time", "beta_ph R4 EI-1", _POS_OR_DEFAULT),
+    _param("max_steps", "n_{max}", "cap on the number of time steps (a work budget, the same on every machine); "
+           "0: none", "1", {"type": "integer", "minimum": 0}),
     _param("rotational_drag", "", "rotational drag: paper (beta_ph l0 R^2) or rigid_link (beta_ph l0^3/12)", "1",
            {"enum": ["paper", "rigid_link"]}),
     _param("bending_constant", "",
@@ -116,7 +118,7 @@ _Q = SCENE_PARAMETERS + [
     Quantity("dphi_ds", r"d\phi/ds", "azimuthal rate along the wall-contact stretch", "rad R-1"),
     Quantity("converged", "", "run reached the residual-based equilibrium criterion", "1"),
     Quantity("escaped", "", "rod left the pore through the open entrance", "1"),
-    Quantity("status", "", "how the run ended: converged, time_cap, escaped or model_violated (reason in the "
+    Quantity("status", "", "how the run ended: converged, time_cap, escaped, model_violated or step_cap (reason in the "
              "attribute 'reason')", "1"),
     Quantity("residual_force", r"\epsilon_F", "final normalised force residual max|F_i| L/(l0 load)", "1"),
     Quantity("residual_torque", r"\epsilon_M", "final normalised torque residual max|M_i| L/(l0 load R)", "1"),

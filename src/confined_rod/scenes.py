@@ -91,6 +91,8 @@ class Scene:
       t_max         cap on simulated time; reaching it flags the run as not converged
                     (default 2e5 beta_ph R^4/EI explicit, 1e9 implicit: a frictional helix
                     settles slowly, over ~5e5 at L = 320 R, and the implicit steps grow as it does)
+      max_steps     cap on the number of steps, a work budget that is the same on every
+                    machine (0 = none); reaching it ends the run as ``step_cap``
       rotational_drag 'paper' (gamma_r = beta_ph l0 R^2) or 'rigid_link' (beta_ph l0^3/12)
       bending_constant 'corrected' (C = EI/l0, derived in docs/model.md) or 'paper' (the paper's
                     printed C = EI/l0^2 read in its units R = 1, i.e. C = EI R/l0^2: a rod of
@@ -121,6 +123,7 @@ class Scene:
     dt_factor: float = 0.8
     tol: float = 1e-5
     t_max: float | None = None
+    max_steps: int = 0
     rotational_drag: str = "paper"
     bending_constant: str = "corrected"
     snapshot_interval: float = 0.0
@@ -281,6 +284,8 @@ def _validate(s: Scene) -> None:
     real("friction_cap", nonneg=True, allow_none=True)
     real("dt_factor", positive=True)
     real("tol", positive=True)
+    if isinstance(s.max_steps, bool) or not isinstance(s.max_steps, numbers.Integral) or s.max_steps < 0:
+        fail("max_steps", "must be an integer >= 0 (0: no cap)")
     if (isinstance(s.seed, bool) or not isinstance(s.seed, numbers.Integral)
             or not 0 <= s.seed <= limits.SEED_MAX):
         fail("seed", f"must be an integer in [0, {limits.SEED_MAX}] (stored as a 64-bit integer)")

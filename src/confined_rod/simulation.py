@@ -13,7 +13,7 @@ from .scenes import Scene
 from .solvers import SOLVERS
 
 #: how a run ended (the dataset's ``status`` flag; ``status_reason`` says why)
-STATUS = ("converged", "time_cap", "escaped", "model_violated")
+STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
 
 
 def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
@@ -38,6 +38,10 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     elif st.converged:
         status, reason = "converged", (f"equilibrium: eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} below "
                                        f"tol = {equilibrium_tol(scene):.2e}")
+    elif st.step_capped:
+        status, reason = "step_cap", (f"step budget max_steps = {scene.max_steps} used up at t = {st.time:.6g} with "
+                                      f"eps_F = {st.eps_F:.2e}, eps_M = {st.eps_M:.2e} above tol = "
+                                      f"{equilibrium_tol(scene):.2e}")
     else:
         status, reason = "time_cap", (f"time cap t_max = {scene.t_max:.6g} reached with eps_F = {st.eps_F:.2e}, "
                                       f"eps_M = {st.eps_M:.2e} above tol = {equilibrium_tol(scene):.2e}")

@@ -2,7 +2,9 @@
 
 The map that collects the points is post-processing: figures/stability_map.py.
 
-Each point either reaches equilibrium, runs into its time cap, escapes, diverges
+Each point either reaches equilibrium, runs into its time cap or its step budget
+(``max_steps``: the map's probes have one, so an explicit run at a stiff setting
+costs at most that many steps and records exactly that), escapes, diverges
 (:class:`DivergenceError`, with the solver's message naming step and time), ends
 in a state that violates the model (a link through the wall, a torn bond), or
 is rejected as an invalid scene (:class:`SceneError`, naming the parameter:
@@ -24,7 +26,7 @@ from .io import variable
 from .scenes import Scene, SceneError
 from .simulation import simulate
 
-STATUS = ("converged", "not_converged", "escaped", "diverged", "invalid", "model_violated")
+STATUS = ("converged", "not_converged", "escaped", "diverged", "invalid", "model_violated", "step_cap")
 STATUS_ATTRS = {"flag_values": np.arange(len(STATUS), dtype=np.int8), "flag_meanings": " ".join(STATUS)}
 
 

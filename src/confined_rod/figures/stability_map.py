@@ -99,7 +99,8 @@ def build(fig_cfg: Mapping[str, Any], probes: Mapping[str, xr.Dataset], context=
 
 
 STATUS_COLOURS = {"converged": "#4daf4a", "not_converged": "#ffd92f", "escaped": "#80b1d3",
-                  "diverged": "#e41a1c", "invalid": "0.75", "model_violated": "#ff7f00"}
+                  "diverged": "#e41a1c", "invalid": "0.75", "model_violated": "#ff7f00",
+                  "step_cap": "#bc80bd"}
 
 
 def plot(ds: xr.Dataset):

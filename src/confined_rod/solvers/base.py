@@ -51,6 +51,7 @@ class RunState:
     steps: int = 0
     converged: bool = False
     escaped: bool = False
+    step_capped: bool = False  # the run used up the scene's max_steps
     eps_F: float = np.inf
     eps_M: float = np.inf
     snapshot_times: list = field(default_factory=list)
@@ -190,6 +191,9 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
             st.converged = True
             break
         if st.time >= t_cap * (1 - 1e-12):
+            break
+        if scene.max_steps and st.steps >= scene.max_steps:
+            st.step_capped = True
             break
     if snap_dt > 0 and (not st.snapshot_times or st.snapshot_times[-1] < st.time):
         st.take_snapshot(snap_limit + 1, scene.name)

@@ -22,9 +22,12 @@ class ExplicitStepper:
         self.ws = Workspace.for_links(scene.N)
         self.chunk = int(max(20, min(200_000, 2_000_000 // scene.N)))
         self.step_hint = f"reduce dt_factor (now {scene.dt_factor})"
+        self.max_steps = scene.max_steps
 
     def advance(self, st: RunState, t_stop: float) -> int:
         nsteps = int(min(self.chunk, max(1, np.ceil((t_stop - st.time) / self.dt - 1e-9))))
+        if self.max_steps:  # stop exactly at the step budget
+            nsteps = max(1, min(nsteps, self.max_steps - st.steps))
         ws = self.ws
         done, code = K.explicit_steps(st.r, st.t, self.par, self.dt, nsteps, ws.Fm, ws.Fp, ws.F, ws.M,
                                       ws.Nw, ws.Ff, ws.stuck)
