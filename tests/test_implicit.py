@@ -133,3 +133,79 @@ def test_exact_contact_hessian_matches_finite_differences(rng, floor):
     assert np.abs(contact).max() > 100.0  # the contacts are there and matter
     IK.contact_hessian(r, t, S.frame, S.e1, S.e2, S.par, split)
     assert np.abs(split - full).max() < 1e-3
+
+
+@pytest.mark.parametrize("kw", [{}, {"ends": "pinned", "k_fr": 0.0}, {"lower_end": "free"},
+                                {"ends": "guided", "pore_length": 9.0}, {"bending_constant": "paper"}])
+def test_analytic_smooth_hessian_matches_finite_differences(rng, kw):
+    """The exact Hessian of the smooth terms (bonds, bending, load, support and
+    pins, drag) against one-sided finite differences of the numba forces, at a
+    state moved away from the step's start (so the drag's curvature term
+    ct (1 - t.t_n) is not zero).  Entries reach 2 k h^2 + ... ~ 4e3; the
+    differences err by ~ k h_fd ~ 1e-4 (curvature times step) plus round-off
+    k L eps / h_fd ~ 1e-5, so 1e-3 is a relative 2.5e-7; a missing or wrong
+    term errs by at least the smallest physical entry, C = EI/l0 = 2 (or the
+    drag cr = beta/dt = 0.05), far above it."""
+    from confined_rod.solvers import implicit_kernels as IK
+    from confined_rod.solvers.base import RunState
+    from confined_rod.solvers.implicit import ImplicitStepper
+
+    from .conftest import random_state
+
+    scene = Scene(L=12.0, load=0.25, **({"k_fr": 0.8} | kw))
+    r0, t0 = random_state(scene, rng)
+    S = ImplicitStepper(scene, dt=10.0)
+    S._start_step(RunState(r=r0, t=t0), 10.0)
+    r = np.ascontiguousarray(r0 + rng.normal(scale=0.05, size=r0.shape))
+    t = t0 + rng.normal(scale=0.1, size=t0.shape)
+    t = np.ascontiguousarray(t / np.linalg.norm(t, axis=1)[:, None])
+    IK.tangent_bases(t, S.e1, S.e2)
+    S.fd_step[:] = 1e-7
+    ws = S.ws
+    g0 = np.zeros_like(S.g0)
+    IK.smooth_gradient(r, t, S.nu1, S.rn, S.tn, S.frame, S.e1, S.e2, S.cr, S.ct, S.par_fd, ws.Fm, ws.Fp, ws.F, ws.M,
+                       ws.Nw, g0)
+    IK.fd_hessian(r, t, S.rn, S.tn, S.frame, S.e1, S.e2, S.cr, S.ct, S.par_fd, S.fd_step, g0, ws.Fm, ws.Fp, ws.F,
+                  ws.M, ws.Nw, S.rp, S.tp, S.nu, S.gp, S.ab)
+    exact = np.zeros_like(S.ab)
+    IK.smooth_hessian(r, t, S.tn, S.frame, S.e1, S.e2, S.cr, S.ct, S.par, exact)
+    assert np.abs(S.ab).max() > 1e3
+    assert np.abs(exact - S.ab).max() < 1e-3
+
+
+def test_banded_cholesky_matches_lapack(rng):
+    """The solver's banded Cholesky against LAPACK (scipy.linalg.solveh_banded) on
+    a random positive definite matrix of the solver's band: equal to round-off
+    (cond ~ 10 here, so 1e-12 relative is ample); and an indefinite matrix is
+    reported, not solved."""
+    from scipy.linalg import solveh_banded
+
+    from confined_rod.solvers import implicit_kernels as IK
+
+    n = IK.NDOF * 30
+    ab = rng.normal(scale=0.3, size=(IK.BAND + 1, n))
+    ab[0] = 5.0 + rng.random(n)
+    b = rng.normal(size=n)
+    work, x = np.zeros((n, IK.BAND + 1)), np.zeros(n)
+    assert IK.banded_cholesky_solve(ab, b, work, x)
+    ref = solveh_banded(ab, b, lower=True)
+    assert np.abs(x - ref).max() < 1e-12 * np.abs(ref).max()
+    ab[0, n // 2] = -1.0
+    assert not IK.banded_cholesky_solve(ab, b, work, x)
+
+
+def test_exact_and_finite_difference_hessians_give_the_same_equilibrium():
+    """The Newton Hessian changes the iteration, not the step's solution: without
+    friction (unique equilibrium) both end at the same F_z(L) within the stopping
+    tolerance, tol * load = 1e-5 (plus the penalty-level difference)."""
+    from confined_rod import observables as obs
+    from confined_rod.solvers.base import run_protocol
+    from confined_rod.solvers.implicit import ImplicitStepper
+
+    sc = Scene(L=20.0, load=0.25, k_fr=0.0, tol=1e-4)
+    F = []
+    for hessian in ("analytic", "fd"):
+        st = run_protocol(sc, lambda s, h=hessian: ImplicitStepper(s, hessian=h), progress=False)
+        assert st.converged
+        F.append(obs.compute(sc, st.r, st.t).F_transmitted)
+    assert abs(F[0] - F[1]) < 2e-5

@@ -14,6 +14,7 @@ from .solvers import SOLVERS
 
 #: how a run ended (the dataset's ``status`` flag; ``status_reason`` says why)
 STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
+WORK_COUNTERS = ("newton_iterations", "gradients", "factorisations", "rejected_steps")
 
 
 def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
@@ -96,6 +97,8 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
                    "gamma_r": c.gamma_r, "dt": scene.dt(), "dt_stable_estimate": c.dt_stable,
                    "tol_effective": equilibrium_tol(scene), "status": status, "status_reason": reason,
                    "stage_converged": [int(v) for v in st.stage_converged]})
+    # the solver's work (implicit: Newton iterations, gradient evaluations, banded factorisations, rejected steps)
+    params.update({f"work_{key}": int(st.work.get(key, 0)) for key in WORK_COUNTERS})
     title = (f"Confined elastic rod '{scene.name}': L/R = {scene.L / scene.R:g}, "
              f"load = {scene.load * scene.R**2 / scene.EI:g} EI/R^2, k_fr = {scene.k_fr:g}")
     return finalize(ds, title, params)

@@ -1,9 +1,13 @@
 """Implicit (backward Euler) integrator of the same overdamped dynamics.
 
 Each step minimises Phi = E + drag + friction (solvers.implicit_kernels) by
-Newton's method: a block-tridiagonal Hessian (finite differences of the smooth
-forces, exact for the one-sided contacts and the friction), a banded Cholesky
-solve (LAPACK via scipy), and a line search on the slope of Phi.
+Newton's method: the exact block-tridiagonal Hessian (implicit_kernels.
+smooth_hessian for the smooth terms, contact_hessian and friction_term for the
+one-sided contacts and the friction), a banded Cholesky solve
+(implicit_kernels.banded_cholesky_solve), and a line search on the slope of Phi.
+Newton starts from the last step's displacement scaled to the new dt (a
+predictor: where the rod slides steadily it is nearly the answer, and the
+contact and stick/slip pattern it implies is nearly the final one).
 
 Coulomb friction.  The exact dissipation f_max |v| of a link on the wall is not
 differentiable where every slip starts (v = 0).  The solver uses its Moreau
@@ -18,8 +22,11 @@ The equilibrium conditions (|F_t| <= f_max on stuck links) are the same.
 Step-size control: a step is accepted only if Newton converged (an indefinite
 Hessian is shifted, Levenberg-Marquardt, until it factorises) and no link end
 moved more than ``2 dx_max``; the next step is
-scaled by 0.9 dx_max / (largest displacement), at most doubled.  A failed step
-is retried with dt/4.  dx_max is the accuracy knob: it bounds how far the path
+scaled by 0.9 dx_max / (largest displacement), at most doubled, and halved
+after a step that needed more than NEWTON_SLOW Newton iterations (where the
+contact or stick/slip pattern changes along the rod, Newton resolves it a few
+links per iteration; a shorter step changes less of it and starts closer).  A
+failed step is retried with dt/4.  dx_max is the accuracy knob: it bounds how far the path
 may be cut short between two evaluations of the normal forces and the contact
 set.  Near equilibrium the displacements vanish and dt grows without bound, so a
 run ends in a few steps once the shape has settled.
@@ -27,7 +34,6 @@ run ends in a few steps once the shape has settled.
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import LinAlgError, solveh_banded
 
 from ..errors import DivergenceError
 from ..limits import roundoff_force
@@ -48,6 +54,10 @@ NEWTON_TOL = 0.3  # Newton stops at a step residual of NEWTON_TOL * tol (normali
 NEWTON_ETA = 1e-2  # ... or, during the approach, at NEWTON_ETA x the largest drag force of the step
 SHIFT_START = 1e-8  # indefinite Hessian: first diagonal shift, relative to each diagonal entry
 SHIFT_GROW = 100.0
+NEWTON_SLOW = 10  # a step that needed more Newton iterations than this ...
+SLOW_FACTOR = 0.5  # ... caps the next step at this x its dt
+HESSIANS = ("analytic", "fd")  # smooth part of the Newton Hessian: exact (default), or finite differences (the
+# previous method, 15 gradient evaluations per iteration; kept for the benchmark's same-run comparison and the tests)
 
 
 class StepFailed(Exception):
@@ -55,8 +65,11 @@ class StepFailed(Exception):
 
 
 class ImplicitStepper:
-    def __init__(self, scene: Scene, dt: float | None = None):
+    def __init__(self, scene: Scene, dt: float | None = None, hessian: str = "analytic"):
+        if hessian not in HESSIANS:
+            raise ValueError(f"hessian must be one of {HESSIANS}, got {hessian!r}")
         self.scene = scene
+        self.hessian = hessian
         self.par = scene.params()
         # the finite-difference Hessian leaves out the one-sided contact penalties
         # (added exactly by contact_hessian)
@@ -82,17 +95,24 @@ class ImplicitStepper:
         self.frame = np.zeros((n, 3, 3))
         self.g, self.g0, self.g_fd, self.gp = (np.zeros((n, IK.NDOF)) for _ in range(4))
         self.ab = np.zeros((IK.BAND + 1, IK.NDOF * n))
+        self.chol = np.zeros((IK.NDOF * n, IK.BAND + 1))  # its Cholesky factor, by columns
+        self.p = np.zeros(IK.NDOF * n)  # Newton direction
         self.nu, self.nu1 = np.ones(n), np.ones(n)
         self.fmax = np.zeros(n)
         self.fd_step = np.array([FD_STEP * scene.R] * 3 + [FD_STEP] * 2)
         self.kt = scene.k_w  # stiffness of the stick spring (N/R per link)
+        self.prev_dr, self.prev_dt_vec = z3(), z3()  # the last accepted step (predictor)
+        self.prev_dt = 0.0
+        self.last_iterations = 0
         self.anchor = None  # stick anchors: the run state's, set at the first step
 
     # -- one backward-Euler step ------------------------------------------------
     def _smooth(self, r, t, nu, g):
+        """Phi_s and its gradient at (r, t); leaves the loads at (r, t) in ws and E in self.E."""
         ws = self.ws
-        return IK.smooth_gradient(r, t, nu, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct,
-                                  self.par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, g)
+        self.E = K.conservative_loads(r, t, self.par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)[0]
+        return self.E + IK.step_gradient(r, t, nu, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct,
+                                         ws.F, ws.M, g)
 
     def _start_step(self, st: RunState, dt: float) -> None:
         self.cr, self.ct = self.beta / dt, self.gamma_r / dt
@@ -126,35 +146,58 @@ class ImplicitStepper:
         Newton forcing term: the leftover residual acts as a force NEWTON_ETA
         times smaller than the one moving the rod, well inside the first-order
         error of the step; near equilibrium the drag vanishes and the run's
-        tolerance takes over)."""
-        g, ab = self.g, self.ab
+        tolerance takes over).
+
+        Work per iteration: the line search's last gradient evaluation is the
+        next iteration's (its loads F, M are re-projected on the new tangent
+        bases), so an iteration costs one gradient per line-search trial (one
+        when the full Newton step is taken), one Hessian assembly and one banded
+        factorisation; the Hessian is built only once the residual is known to
+        be above the tolerance."""
+        g, ab, ws = self.g, self.ab, self.ws
+        fresh = False  # ws holds the loads at (r, t), self.E their energy
         for it in range(MAX_NEWTON):
             st.count("newton_iterations")
             IK.tangent_bases(t, self.e1, self.e2)
-            ws = self.ws
-            IK.smooth_gradient(r, t, self.nu1, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct,
-                               self.par_fd, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.g_fd)
-            IK.fd_hessian(r, t, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct, self.par_fd,
-                          self.fd_step, self.g_fd, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.rp, self.tp, self.nu, self.gp,
-                          ab)
-            IK.contact_hessian(r, t, self.frame, self.e1, self.e2, self.par, ab)
-            phi = self._smooth(r, t, self.nu1, self.g0)
-            g[:] = self.g0
+            if not fresh:
+                st.count("gradients")
+                self.E = K.conservative_loads(r, t, self.par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)[0]
+            phi = self.E + IK.step_gradient(r, t, self.nu1, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr,
+                                            self.ct, ws.F, ws.M, g)
             if self.use_friction:
-                phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, ab, True)
+                phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, ab, False)
             tol_F = max(self.gtol_F, NEWTON_ETA * self.cr * np.abs(r - self.rn).max())
             tol_M = max(self.gtol_M, NEWTON_ETA * self.ct * np.abs(t - self.tn).max())
             if np.abs(g[:, :3]).max() <= tol_F and np.abs(g[:, 3:]).max() <= tol_M:
                 return
+            self._hessian(r, t)
             p = self._solve(ab, g, st)
-            self._line_search(r, t, p, phi, float(np.dot(g.ravel(), p.ravel())))
+            self._line_search(r, t, p, phi, float(np.dot(g.ravel(), p.ravel())), st)
             r[:] = self.r2
             t[:] = self.t2
+            fresh = not self.planar
             if self.planar:
                 r[:, 1] = 0.0
                 t[:, 1] = 0.0
                 t /= np.linalg.norm(t, axis=1)[:, None]
         raise StepFailed(f"Newton did not converge in {MAX_NEWTON} iterations")
+
+    def _hessian(self, r: np.ndarray, t: np.ndarray) -> None:
+        """Newton Hessian of Phi at (r, t) into ab: the smooth part (exact, or by
+        finite differences with hessian='fd'), the one-sided contacts and the
+        friction (both exact)."""
+        ab, ws = self.ab, self.ws
+        if self.hessian == "fd":  # clobbers ws, whose loads are no longer needed in this iteration
+            IK.smooth_gradient(r, t, self.nu1, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct,
+                               self.par_fd, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.g_fd)
+            IK.fd_hessian(r, t, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct, self.par_fd,
+                          self.fd_step, self.g_fd, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw, self.rp, self.tp, self.nu,
+                          self.gp, ab)
+        else:
+            IK.smooth_hessian(r, t, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct, self.par, ab)
+        IK.contact_hessian(r, t, self.frame, self.e1, self.e2, self.par, ab)
+        if self.use_friction:
+            IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, self.g_fd, ab, True)
 
     def _solve(self, ab: np.ndarray, g: np.ndarray, st: RunState) -> np.ndarray:
         """Newton direction -H^-1 g by banded Cholesky.  Where Phi is not convex
@@ -163,17 +206,18 @@ class ImplicitStepper:
         search and the displacement limit then keep short."""
         mu = 0.0
         diag = np.abs(ab[0]).copy()
+        rhs = -g.ravel()
         for _ in range(8):
-            try:
-                return solveh_banded(ab, -g.ravel(), lower=True, check_finite=False).reshape(self.n, IK.NDOF)
-            except (LinAlgError, ValueError):
-                st.count("shifted_hessians")
-                new = SHIFT_START if mu == 0.0 else mu * SHIFT_GROW
-                ab[0] += (new - mu) * diag
-                mu = new
+            st.count("factorisations")
+            if IK.banded_cholesky_solve(ab, rhs, self.chol, self.p):
+                return self.p.reshape(self.n, IK.NDOF)
+            st.count("shifted_hessians")
+            new = SHIFT_START if mu == 0.0 else mu * SHIFT_GROW
+            ab[0] += (new - mu) * diag
+            mu = new
         raise StepFailed("Hessian not positive definite even after a diagonal shift")
 
-    def _line_search(self, r, t, p, phi0: float, slope0: float) -> float:
+    def _line_search(self, r, t, p, phi0: float, slope0: float, st: RunState) -> float:
         """Step length along the Newton direction p.
 
         Works on the slope d Phi/d alpha, computed from gradients, which keep their
@@ -192,6 +236,7 @@ class ImplicitStepper:
         alpha, side = 1.0, 0
         for _ in range(30):
             IK.displace(r, t, self.frame, self.e1, self.e2, p, alpha, self.r2, self.t2, self.nu)
+            st.count("gradients")
             phi = self._phi(self.r2, self.t2, self.nu, self.gp)
             slope = float(np.dot(self.gp.ravel(), p.ravel()))
             if not (np.isfinite(phi) and np.isfinite(slope)):
@@ -220,7 +265,14 @@ class ImplicitStepper:
     def _step(self, st: RunState, dt: float) -> tuple[np.ndarray, np.ndarray]:
         self._start_step(st, dt)
         r, t = st.r.copy(), st.t.copy()
+        n0 = st.work.get("newton_iterations", 0)
+        if self.prev_dt > 0.0:  # predictor: the last step's displacement, scaled to dt
+            a = min(dt / self.prev_dt, GROW_MAX)
+            r += a * self.prev_dr
+            t += a * self.prev_dt_vec
+            t /= np.linalg.norm(t, axis=1)[:, None]
         self._newton(r, t, st)
+        self.last_iterations = st.work["newton_iterations"] - n0
         return r, t
 
     # -- adaptive stepping ---------------------------------------------------------
@@ -238,6 +290,9 @@ class ImplicitStepper:
             if d > 2.0 * self.dx_max:
                 self._shrink(st, max(0.1, 0.9 * self.dx_max / d), "displacement above 2 dx_max")
                 continue
+            np.subtract(r, st.r, out=self.prev_dr)
+            np.subtract(t, st.t, out=self.prev_dt_vec)
+            self.prev_dt = dt
             st.r[:] = r
             st.t[:] = t
             IK.update_anchors(st.r, self.anchor, self.frame, self.fmax, self.kt)
@@ -245,6 +300,8 @@ class ImplicitStepper:
             st.steps += 1
             if dt == self.dt:
                 self.dt *= min(GROW_MAX, 0.9 * self.dx_max / d) if d > 0 else GROW_MAX
+                if self.last_iterations > NEWTON_SLOW:
+                    self.dt = min(self.dt, SLOW_FACTOR * dt)
             if K.escaped(st.r, st.t, self.par):
                 return K.STOP_ESCAPED
             return K.STEPS_DONE

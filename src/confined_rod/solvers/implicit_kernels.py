@@ -93,6 +93,15 @@ def smooth_gradient(r, t, nu, rn, tn, frame, e1, e2, cr, ct, par, Fm, Fp, F, M, 
     step coordinates (cr = beta/dt, ct = gamma_r/dt); nu[i] = |t + a e1 + b e2|
     before normalisation (1 at the expansion point).  Returns Phi_s."""
     phi, _, _ = K.conservative_loads(r, t, par, Fm, Fp, F, M, Nw)
+    return phi + step_gradient(r, t, nu, rn, tn, frame, e1, e2, cr, ct, F, M, g)
+
+
+@njit(cache=True)
+def step_gradient(r, t, nu, rn, tn, frame, e1, e2, cr, ct, F, M, g):
+    """The drag part of Phi_s, and the gradient of Phi_s in the step coordinates
+    from the conservative loads F, M already evaluated at (r, t) (the second
+    half of smooth_gradient); returns the drag energy."""
+    phi = 0.0
     for i in range(r.shape[0]):
         dx = r[i, 0] - rn[i, 0]
         dy = r[i, 1] - rn[i, 1]
@@ -180,24 +189,144 @@ def fd_hessian(r, t, rn, tn, frame, e1, e2, cr, ct, par, h, g0, Fm, Fp, F, M, Nw
 
 
 @njit(cache=True)
-def _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab):
+def _add_pair(ab, i, j, A, B, w):
+    """Add w A^T B to the Hessian block (link i rows, link j columns), i >= j, in
+    lower banded storage; A and B (m x NDOF) are the Jacobians of one term's m
+    components with respect to link i's and link j's coordinates.  A diagonal
+    block (i == j) stores its lower triangle only."""
+    for a in range(NDOF):
+        row = NDOF * i + a
+        for b in range(NDOF):
+            col = NDOF * j + b
+            if row < col:
+                continue
+            v = 0.0
+            for c in range(A.shape[0]):
+                v += A[c, a] * B[c, b]
+            ab[row - col, col] += w * v
+
+
+@njit(cache=True)
+def _end_jacobian(i, s, h, frame, e1, e2, A):
+    """Jacobian of the end point r_i + s h t_i with respect to link i's step
+    coordinates (3 x NDOF): the frame vectors, then s h e1, s h e2."""
+    for c in range(3):
+        for k in range(3):
+            A[c, k] = frame[i, k, c]
+        A[c, 3] = s * h * e1[i, c]
+        A[c, 4] = s * h * e2[i, c]
+
+
+@njit(cache=True)
+def _add_bond_diagonal(ab, i, A, h, k):
+    """Add k A^T A to link i's diagonal block, A = _end_jacobian of one of its
+    ends: the frame is orthonormal and e1, e2 are orthonormal, so A^T A is the
+    identity on the translations, h^2 on the rotations, and A_k . A_3, A_k . A_4
+    (k < 3) between them."""
+    q = NDOF * i
+    for d in range(3):
+        ab[0, q + d] += k
+    ab[0, q + 3] += k * h * h
+    ab[0, q + 4] += k * h * h
+    for d in range(3):
+        for a in range(3, NDOF):
+            ab[a - d, q + d] += k * (A[0, d] * A[0, a] + A[1, d] * A[1, a] + A[2, d] * A[2, a])
+
+
+@njit(cache=True)
+def smooth_hessian(r, t, tn, frame, e1, e2, cr, ct, par, ab):
+    """Exact Hessian of Phi_s without the contact penalties (bonds, bending, load,
+    support and pins, drag), in the step coordinates at (r, t) (nu = 1), written
+    into ab (lower banded storage, overwritten).  Every term is quadratic or
+    linear in the Cartesian r and t, so its coordinate Hessian is J^T H_cart J,
+    plus the curvature of the tangent's parametrisation: d^2 t/da^2 = d^2 t/db^2
+    = -t (no cross term), which adds -t . dE/dt to both rotation entries.
+      bond (k/2)|g|^2, g = r_{i+1} - r_i - h (t_{i+1} + t_i):  k G_a^T G_b,
+          dE/dt_i = dE/dt_{i+1} = -h k g;
+      bending C (1 - t_i . t_{i+1}):  -C e_a(i+1) . e_b(i) between the links,
+          dE/dt_i = -C t_{i+1};
+      load P z(r_{N-1}^+):  dE/dt_{N-1} = P h e_z;
+      support (k_s/2) z_b^2 and pins (k_s/2) p^2:  k_s G^T G, dE/dt = k_s p dp/dt;
+      drag (cr/2)|r - r_n|^2 + (ct/2)|t - t_n|^2:  cr, ct on the diagonal,
+          dE/dt = ct (t - t_n).
+    Tested against finite differences of the kernel forces (fd_hessian)."""
+    n = r.shape[0]
+    h = par[K.HALF]
+    k = par[K.K_BOND]
+    C = par[K.C_BEND]
+    ks = par[K.K_SUP]
+    ab[:, :] = 0.0
+    curv = np.zeros(n)  # -t . dE/dt per link
+    A = np.empty((3, NDOF))
+    B = np.empty((3, NDOF))
+    P = np.empty((1, NDOF))
+    for i in range(n - 1):
+        # bond between the top of link i and the bottom of link i+1
+        gx = (r[i + 1, 0] - r[i, 0]) - h * (t[i + 1, 0] + t[i, 0])
+        gy = (r[i + 1, 1] - r[i, 1]) - h * (t[i + 1, 1] + t[i, 1])
+        gz = (r[i + 1, 2] - r[i, 2]) - h * (t[i + 1, 2] + t[i, 2])
+        _end_jacobian(i, 1.0, h, frame, e1, e2, A)
+        _end_jacobian(i + 1, -1.0, h, frame, e1, e2, B)
+        _add_bond_diagonal(ab, i, A, h, k)
+        _add_bond_diagonal(ab, i + 1, B, h, k)
+        q = NDOF * i
+        for a in range(NDOF):  # -k B^T A between the links (row - column = NDOF + a - b >= 1)
+            for b in range(NDOF):
+                ab[NDOF + a - b, q + b] -= k * (B[0, a] * A[0, b] + B[1, a] * A[1, b] + B[2, a] * A[2, b])
+        curv[i] += h * k * (gx * t[i, 0] + gy * t[i, 1] + gz * t[i, 2])
+        curv[i + 1] += h * k * (gx * t[i + 1, 0] + gy * t[i + 1, 1] + gz * t[i + 1, 2])
+        # bending joint
+        for a in range(2):
+            ea = e1[i + 1] if a == 0 else e2[i + 1]
+            for b in range(2):
+                eb = e1[i] if b == 0 else e2[i]
+                ab[NDOF + 3 + a - (3 + b), q + 3 + b] -= C * (ea[0] * eb[0] + ea[1] * eb[1] + ea[2] * eb[2])
+        tt = t[i, 0] * t[i + 1, 0] + t[i, 1] * t[i + 1, 1] + t[i, 2] * t[i + 1, 2]
+        curv[i] += C * tt
+        curv[i + 1] += C * tt
+    # load on the upper end
+    curv[n - 1] -= par[K.LOAD] * h * t[n - 1, 2]
+    # z support of the lower end, lateral pins of both ends
+    if par[K.LOWER_HELD] > 0.5:
+        _end_jacobian(0, -1.0, h, frame, e1, e2, A)
+        for b in range(NDOF):
+            P[0, b] = A[2, b]
+        _add_pair(ab, 0, 0, P, P, ks)
+        curv[0] += h * ks * (r[0, 2] - h * t[0, 2]) * t[0, 2]
+    if par[K.ENDS_PINNED] > 0.5:
+        for end in range(2):
+            i = 0 if end == 0 else n - 1
+            s = -1.0 if end == 0 else 1.0
+            _end_jacobian(i, s, h, frame, e1, e2, A)
+            for c in range(2):
+                for b in range(NDOF):
+                    P[0, b] = A[c, b]
+                _add_pair(ab, i, i, P, P, ks)
+                curv[i] -= s * h * ks * (r[i, c] + s * h * t[i, c]) * t[i, c]
+    # drag, and the curvature of the rotations
+    for i in range(n):
+        q = NDOF * i
+        for d in range(3):
+            ab[0, q + d] += cr
+        ut = t[i, 0] * (t[i, 0] - tn[i, 0]) + t[i, 1] * (t[i, 1] - tn[i, 1]) + t[i, 2] * (t[i, 2] - tn[i, 2])
+        c = ct - ct * ut + curv[i]
+        ab[0, q + 3] += c
+        ab[0, q + 4] += c
+
+
+@njit(cache=True)
+def _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J):
     """Add the Hessian of an end-point energy with point Hessian hp (3x3) and
     point gradient gp to link i's diagonal block (end point r_i + s h t_i):
-    J^T hp J with J = [frame_0, frame_1, frame_2, s h e1, s h e2], plus the
-    curvature of the tangent's rotation, d^2 p/da^2 = d^2 p/db^2 = -s h t."""
-    J = np.empty((NDOF, 3))
-    for k in range(3):
-        for c in range(3):
-            J[k, c] = frame[i, k, c]
-    for c in range(3):
-        J[3, c] = s * h * e1[i, c]
-        J[4, c] = s * h * e2[i, c]
+    J^T hp J with J the end point's Jacobian (_end_jacobian; J is scratch), plus
+    the curvature of the tangent's rotation, d^2 p/da^2 = d^2 p/db^2 = -s h t."""
+    _end_jacobian(i, s, h, frame, e1, e2, J)
     for a in range(NDOF):
         for b in range(a, NDOF):
             v = 0.0
             for c in range(3):
                 for d in range(3):
-                    v += J[a, c] * hp[c, d] * J[b, d]
+                    v += J[c, a] * hp[c, d] * J[d, b]
             ab[b - a, q + a] += v
     curv = -s * h * (gp[0] * t[i, 0] + gp[1] * t[i, 1] + gp[2] * t[i, 2])
     ab[0, q + 3] += curv
@@ -220,6 +349,7 @@ def contact_hessian(r, t, frame, e1, e2, par, ab):
     kw = par[K.K_WALL]
     hp = np.zeros((3, 3))
     gp = np.zeros(3)
+    J = np.empty((3, NDOF))
     n = r.shape[0]
     for i in range(n):
         q = NDOF * i
@@ -240,14 +370,14 @@ def contact_hessian(r, t, frame, e1, e2, par, ab):
                 gp[0] = kw * d * nx
                 gp[1] = kw * d * ny
                 gp[2] = 0.0
-                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab)
+                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
             if par[K.FLOOR] > 0.5 and pz < 0.0 and not (i == 0 and s < 0.0):
                 hp[:, :] = 0.0
                 hp[2, 2] = kw
                 gp[0] = 0.0
                 gp[1] = 0.0
                 gp[2] = kw * pz
-                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab)
+                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
             dz = K._face_point(px, py, pz, par, guided)
             if dz > 0.0:
                 hp[:, :] = 0.0
@@ -255,7 +385,62 @@ def contact_hessian(r, t, frame, e1, e2, par, ab):
                 gp[0] = 0.0
                 gp[1] = 0.0
                 gp[2] = -kw * dz
-                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab)
+                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
+
+
+@njit(cache=True)
+def banded_cholesky_solve(ab, b, work, x):
+    """Solve H x = b for a symmetric positive definite banded H in LAPACK lower
+    storage ab[i - j, j] = H[i, j] (half-bandwidth kd = ab.shape[0] - 1), by
+    Cholesky H = L L^T and two triangular solves.  work (n, kd + 1) holds L by
+    columns, work[j, i] = L[j + i, j] (contiguous per column; ab is untouched).
+    Returns False if a pivot is not positive (H is not positive definite).
+    kd must be BAND (the fast path assumes it).  The algorithm of LAPACK's dpbtrf/dpbtrs, unblocked: at
+    a half-bandwidth of 9 blocking buys nothing, and the call overhead of
+    scipy.linalg.solveh_banded was 40 % of a Newton iteration."""
+    kd = ab.shape[0] - 1
+    assert kd == BAND
+    n = ab.shape[1]
+    for j in range(n):
+        for i in range(kd + 1):
+            work[j, i] = ab[i, j]
+    for j in range(n):
+        d = work[j, 0]
+        if not d > 0.0:
+            return False
+        d = np.sqrt(d)
+        work[j, 0] = d
+        inv = 1.0 / d
+        if j + BAND < n:  # interior column: a loop bound the compiler knows (unrolled), 1.4x faster
+            for i in range(1, BAND + 1):
+                work[j, i] *= inv
+            for k in range(1, BAND + 1):
+                lk = work[j, k]
+                for i in range(k, BAND + 1):
+                    work[j + k, i - k] -= work[j, i] * lk
+        else:
+            m = min(kd, n - 1 - j)
+            for i in range(1, m + 1):
+                work[j, i] *= inv
+            for k in range(1, m + 1):
+                lk = work[j, k]
+                for i in range(k, m + 1):
+                    work[j + k, i - k] -= work[j, i] * lk
+    for j in range(n):  # L y = b
+        x[j] = b[j]
+    for j in range(n):
+        x[j] /= work[j, 0]
+        m = min(kd, n - 1 - j)
+        xj = x[j]
+        for i in range(1, m + 1):
+            x[j + i] -= work[j, i] * xj
+    for j in range(n - 1, -1, -1):  # L^T x = y
+        m = min(kd, n - 1 - j)
+        v = x[j]
+        for i in range(1, m + 1):
+            v -= work[j, i] * x[j + i]
+        x[j] = v / work[j, 0]
+    return True
 
 
 @njit(cache=True)
