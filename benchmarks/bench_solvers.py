@@ -207,6 +207,11 @@ def main() -> None:
     def save():
         path.write_text(json.dumps(out, indent=1))
 
+    if not args.compare and path.exists():  # keep the last equal-error comparison (its explicit runs take ~15 min)
+        last = json.loads(path.read_text())
+        if last.get("compare"):
+            out["compare"] = last["compare"]
+            out["compare_from_commit"] = last.get("compare_from_commit", last["provenance"].get("git_commit"))
     out["iteration_costs"] = iteration_costs()
     save()
     print(json.dumps(out["iteration_costs"]), flush=True)
@@ -232,7 +237,8 @@ def main() -> None:
         print(json.dumps(out["accuracy"][-1]), flush=True)
     for L in args.compare:
         row = compare(L, args.repeats)
-        out["compare"].append(row)
+        out["compare"] = [r for r in out["compare"] if r["L"] != L] + [row]
+        out.pop("compare_from_commit", None)
         save()
         for r in row["explicit"] + row["implicit"]:
             print(json.dumps({k: r.get(k) for k in ("L", "solver", "tol", "dx_max", "wall_s", "error",
