@@ -86,3 +86,19 @@ def simulate_runtime(wildcards):
     (limits.estimated_wall_time), plus ten minutes."""
     sc = pipeline.build_scene(config, wildcards.figure, wildcards.scene)
     return int(10 + 3 * limits.estimated_wall_time(sc) / 60.0)
+
+
+def job_priority(wildcards):
+    """Longest jobs first, so that the last jobs of a build finish together: the
+    estimated wall time in seconds (limits.estimated_wall_time); 0 for a probe of
+    deliberately invalid input."""
+    try:
+        sc = pipeline.build_scene(config, wildcards.figure, wildcards.scene)
+    except Exception:
+        return 0
+    return int(limits.estimated_wall_time(sc))
+
+
+def path_priority(wildcards):
+    """A load path relaxes the rod at tens of loads: ten times one run's estimate."""
+    return 10 * job_priority(wildcards)

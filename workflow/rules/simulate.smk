@@ -13,6 +13,7 @@ rule simulate:
     benchmark:
         "results/benchmarks/simulate/{figure}/{scene}.tsv"
     threads: 1
+    priority: job_priority
     resources:
         mem_mb=1000,
         runtime=simulate_runtime,
@@ -38,6 +39,7 @@ rule probe:
     benchmark:
         "results/benchmarks/probe/{figure}/{scene}.tsv"
     threads: 1
+    priority: job_priority
     resources:
         mem_mb=1000,
         runtime=30,
@@ -66,6 +68,7 @@ rule load_path:
     benchmark:
         "results/benchmarks/load_path/{figure}/{scene}.tsv"
     threads: 1
+    priority: path_priority
     resources:
         mem_mb=1000,
         runtime=60,
