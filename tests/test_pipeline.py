@@ -80,10 +80,10 @@ def test_shared_scenes_are_simulated_once():
     # Fig 5 shows the rod of Fig 4(c): the same simulation, not a new run
     assert pipeline.canonical_scene(config, "fig5_pitch", "c") == ("fig6_FonL", "L320")
     # 6 + 2 paper scenes of Figs 6 and 4, 3 + 1 + 1 as-printed and Fig 7 scenes, 2 of Fig 1,
-    # 18 new ladder rungs (of 23), 11 time-vs-error runs, 9 load-path jobs of Fig 3 and 10
+    # 18 new ladder rungs (of 23), 10 time-vs-error runs of their own, 9 load-path jobs of Fig 3 and 10
     # transitions of Fig 2, 14 runs of Fig 8 (own files: the event, 4 fold thresholds, 4 escape
     # thresholds and 5 of the span scan)
-    assert len(sims) == len(set(sims)) == 8 + 5 + 2 + 18 + 11 + 9 + 10 + 14
+    assert len(sims) == len(set(sims)) == 8 + 5 + 2 + 18 + 10 + 9 + 10 + 14
     assert sum(p.startswith("results/paths/fig3_bifurcation/") for p in sims) == 9
 
 
