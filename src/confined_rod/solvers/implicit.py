@@ -107,10 +107,15 @@ class ImplicitStepper:
         self.anchor = None  # stick anchors: the run state's, set at the first step
 
     # -- one backward-Euler step ------------------------------------------------
+    def _loads(self, r, t) -> None:
+        """Conservative loads at (r, t) into ws, their energy into self.E."""
+        ws = self.ws
+        self.E = K.conservative_loads(r, t, self.par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)[0]
+
     def _smooth(self, r, t, nu, g):
         """Phi_s and its gradient at (r, t); leaves the loads at (r, t) in ws and E in self.E."""
         ws = self.ws
-        self.E = K.conservative_loads(r, t, self.par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)[0]
+        self._loads(r, t)
         return self.E + IK.step_gradient(r, t, nu, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct,
                                          ws.F, ws.M, g)
 
@@ -133,11 +138,11 @@ class ImplicitStepper:
             if self.cap > 0.0:
                 np.minimum(self.fmax, self.cap, out=self.fmax)
 
-    def _phi(self, r, t, nu, g, hessian: bool = False) -> float:
-        """Phi and its gradient (into g) at (r, t); the friction Hessian into ab."""
+    def _phi(self, r, t, nu, g) -> float:
+        """Phi and its gradient (into g) at (r, t)."""
         phi = self._smooth(r, t, nu, g)
         if self.use_friction:
-            phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, self.ab, hessian)
+            phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, self.ab, False)
         return phi
 
     def _newton(self, r: np.ndarray, t: np.ndarray, st: RunState) -> None:
@@ -161,7 +166,7 @@ class ImplicitStepper:
             IK.tangent_bases(t, self.e1, self.e2)
             if not fresh:
                 st.count("gradients")
-                self.E = K.conservative_loads(r, t, self.par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)[0]
+                self._loads(r, t)
             phi = self.E + IK.step_gradient(r, t, self.nu1, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr,
                                             self.ct, ws.F, ws.M, g)
             if self.use_friction:
