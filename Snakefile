@@ -28,6 +28,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/simulate.smk"
 include: "workflow/rules/postprocess.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/paper.smk"
 
 
 report: "workflow/report/workflow.rst"
@@ -38,3 +39,4 @@ rule all:
     input:
         ALL_TARGETS["figures"],
         ALL_TARGETS["checks"],
+        ALL_TARGETS["paper"],

@@ -52,6 +52,7 @@ def test_committed_schema_is_the_generated_one():
 
 def test_postprocessing_never_imports_the_simulator():
     code = ("import sys, confined_rod.postprocess, confined_rod.plotting, confined_rod.measure\n"
+            "import confined_rod.claims, confined_rod.derivations, confined_rod.paper\n"
             "from confined_rod import figures\n"
             "[figures.get(k) for k in figures.kinds()]\n"
             "bad = [m for m in ('confined_rod.simulation', 'confined_rod.scenes', 'confined_rod.solvers', 'numba')\n"

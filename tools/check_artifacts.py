@@ -62,6 +62,20 @@ def check_pdf(path: Path) -> list[str]:
     return []
 
 
+def check_csv(path: Path) -> list[str]:
+    """The claims table: a header with a verdict column, at least one row, every row with a verdict, no NaN."""
+    import csv
+
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows or "verdict" not in rows[0]:
+        return [f"{path}: no rows or no verdict column"]
+    errors = [f"{path}: row {r.get('id')!r} has no verdict" for r in rows if not r["verdict"]]
+    errors += [f"{path}: row {r.get('id')!r} contains NaN" for r in rows
+               if any(v.strip().lower() == "nan" for v in r.values())]
+    return errors
+
+
 def check_verdict(path: Path) -> list[str]:
     """A convergence check's verdict: one line ending in pass or inconclusive (a fail stops the build)."""
     text = path.read_text().strip()
@@ -86,7 +100,8 @@ def main(argv=None) -> int:
                 errors.append(f"{p}: missing or empty")
                 continue
             try:
-                check = {".nc": check_netcdf, ".png": check_png, ".pdf": check_pdf, ".txt": check_verdict}[p.suffix]
+                check = {".nc": check_netcdf, ".png": check_png, ".pdf": check_pdf, ".txt": check_verdict,
+                         ".csv": check_csv}[p.suffix]
                 errors += check(p)
             except Exception as e:  # noqa: BLE001 - any failure to open is a failed check
                 errors.append(f"{p}: cannot be read: {type(e).__name__}: {e}")

@@ -66,6 +66,18 @@ def build_schema() -> dict[str, Any]:
         "properties": {
             "scene_defaults": {"$ref": "#/$defs/scene",
                                "description": "parameters applied to every scene of every figure"},
+            "paper": {
+                "type": "object", "additionalProperties": False, "required": ["manuscript", "claims"],
+                "description": "build the reproduction manuscript (rule paper) from this config's datasets",
+                "properties": {
+                    "manuscript": {"type": "string", "pattern": "^paper/[A-Za-z0-9_-]+[.]tex$",
+                                   "description": "LaTeX source in paper/; built to results/paper/<name>.pdf"},
+                    "claims": {"type": "string", "pattern": "^paper/[A-Za-z0-9_/-]+[.]yaml$",
+                               "description": "the original's claims and how each is tested"},
+                    "pages": {"type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 2,
+                              "maxItems": 2, "description": "[min, max] pages the PDF check expects"},
+                },
+            },
             "figures": {"type": "object", "minProperties": 1, "propertyNames": {"pattern": "^[A-Za-z0-9_-]+$"},
                         "additionalProperties": {"$ref": "#/$defs/figure"}},
         },

@@ -31,7 +31,8 @@ from .io import logged  # noqa: F401  (re-exported for the workflow scripts)
 from .scenes import Scene
 
 RESULTS = Path("results")
-SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
+ROOT = Path(__file__).resolve().parents[2]
+SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 MAX_CONFIG_BYTES = 10 << 20
 MAX_CONFIG_NODES = 100_000  # with YAML aliases written out (the publication config has ~2000)
 __all__ = ["ConfigError", "validate", "caption", "context", "expected_outputs", "logged"]
@@ -165,7 +166,29 @@ def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
         out["datasets"].append(dataset_path(f))
         out["figures"] += list(figure_paths(f))
     out["checks"] = [check_path(f) for f in convergence_figures(config)]
+    out["paper"] = paper_outputs(config)
     return out
+
+
+def paper_outputs(config: dict[str, Any]) -> list[str]:
+    """The claims table and the manuscript PDF, if the config has a paper section."""
+    paper = config.get("paper")
+    if not paper:
+        return []
+    return [str(RESULTS / "claims.csv"), str(RESULTS / "claims.nc"),
+            str(RESULTS / "paper" / (Path(paper["manuscript"]).stem + ".pdf"))]
+
+
+def claim_sims(config: dict[str, Any]) -> dict[str, str]:
+    """'figure/scene' -> simulation file, for the figures whose simulations the claims read."""
+    from . import claims
+
+    paper = config.get("paper")
+    if not paper:
+        return {}
+    listed = claims.load(ROOT / paper["claims"])
+    return {f"{f}/{s}": p for f in claims.sim_figures(listed)
+            for s, p in zip(scenes(config, f), figure_sims(config, f))}
 
 
 # -- reading and checking a config ---------------------------------------------------------
@@ -245,6 +268,28 @@ def check(config: dict[str, Any], files: list[str | Path] = (), schema_path: str
     check_schema(config, schema_path)
     expand_sweeps(config)
     validate(config)
+    check_paper(config)
+
+
+def check_paper(config: dict[str, Any], root: str | Path = ROOT) -> None:
+    """The paper section: its files exist, the claims file is well formed, and every figure a
+    claim reads is built by this config (else the claims rule could not decide it)."""
+    paper = config.get("paper")
+    if not paper:
+        return
+    from . import claims
+
+    for key in ("manuscript", "claims"):
+        if not (Path(root) / paper[key]).is_file():
+            raise ConfigError(f"paper.{key}: {paper[key]!r} is not a file of this checkout")
+    listed = claims.load(Path(root) / paper["claims"])
+    for fig, ids in claims.required_figures(listed).items():
+        if fig not in config["figures"]:
+            raise ConfigError(f"paper.claims: claim {ids[0]!r} (and {len(ids) - 1} more) reads figure {fig!r}, "
+                              "which this config does not build; add the figure or drop the paper section")
+    pages = paper.get("pages")
+    if pages and pages[0] > pages[1]:
+        raise ConfigError(f"paper.pages: {pages!r}, expected [min, max] with min <= max")
 
 
 # -- validation, captions, build context (dispatched to the figure kind's module) -----------

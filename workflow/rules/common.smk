@@ -1,7 +1,7 @@
 # Shared set-up: config validation (before any job), file layout, code dependencies.
 from pathlib import Path
 
-from confined_rod import limits, pipeline
+from confined_rod import limits, paper, pipeline
 
 # Before any job: each config file re-read strictly (duplicate keys, aliases, line
 # numbers), the JSON schema (workflow/schemas/config.schema.yaml, one-line errors),
@@ -46,7 +46,8 @@ POSTPROCESS_SHARED = [
 ] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
 STYLE_CODE = [str(_PKG / "plotting.py")]
 _NOT_SIMULATION = set(POSTPROCESS_SHARED + STYLE_CODE) | {
-    str(_PKG / f) for f in ("pipeline.py", "cli.py", "__main__.py", "config_schema.py")
+    str(_PKG / f) for f in ("pipeline.py", "cli.py", "__main__.py", "config_schema.py",
+                            "claims.py", "derivations.py", "paper.py")
 }
 SIMULATION_CODE = sorted(
     str(p)
@@ -102,3 +103,19 @@ def job_priority(wildcards):
 def path_priority(wildcards):
     """A load path relaxes the rod at tens of loads: ten times one run's estimate."""
     return 10 * job_priority(wildcards)
+
+
+# -- the manuscript (rules in paper.smk) ----------------------------------------------------------
+PAPER = config.get("paper") or {}
+PAPER_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py", "paper.py")]
+CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
+               else "config/config.yaml")
+
+
+def claims_file(wildcards):
+    return PAPER["claims"]
+
+
+def claim_sims(wildcards):
+    """The scene simulations the claims read (paper/claims.yaml: measures on results/sims/)."""
+    return list(pipeline.claim_sims(config).values())

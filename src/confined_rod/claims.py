@@ -1,0 +1,617 @@
+"""The claims of the original paper (``paper/claims.yaml``), evaluated on the datasets.
+
+Each claim names how it is tested (see the header of ``paper/claims.yaml``): a symbolic
+derivation (:mod:`confined_rod.derivations`), a number from a dataset compared with the
+paper's within a tolerance, a number inside a range, a named measure (:data:`MEASURES`),
+or a reason why it cannot be tested. :func:`evaluate` returns one :class:`Verdict` per
+claim; the verdict is computed here, never typed, and a claim whose evidence (dataset,
+variable, simulation) is missing raises :class:`ClaimError`, so the build fails.
+
+Post-processing: reads datasets only and never imports the simulator.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+import numpy as np
+import xarray as xr
+
+from .errors import ConfigError
+from .io import read_yaml
+
+VERDICTS = ("reproduced", "reproduced under reading", "refuted", "not testable")
+METHODS = ("derivation", "value", "range", "measure", "not_testable")
+KEYS = {"id", "where", "claim", "paper", "paper_from", "test", "tolerance", "reading", "why", "format"}
+
+
+class ClaimError(ConfigError):
+    """A claim that is malformed, or whose evidence is missing."""
+
+
+@dataclass
+class Verdict:
+    id: str
+    where: str
+    claim: str
+    paper: str                  # the paper's value as text
+    paper_value: float | None   # ... as a number, where it is one
+    ours: str
+    ours_value: float | None
+    tolerance: str
+    verdict: str
+    evidence: str
+    reading: str = ""
+    note: str = ""
+
+
+@dataclass
+class Evidence:
+    """The datasets (by figure) and scene simulations (by 'figure/scene') a build has."""
+    datasets: Mapping[str, xr.Dataset]
+    sims: Mapping[str, xr.Dataset] = field(default_factory=dict)
+    used: list[str] = field(default_factory=list)
+
+    def dataset(self, figure: str, claim: str) -> xr.Dataset:
+        if figure not in self.datasets:
+            raise ClaimError(f"claim {claim!r} needs the dataset of figure {figure!r} "
+                             f"(results/datasets/{figure}.nc), which this config does not build")
+        return self.datasets[figure]
+
+    def sim(self, figure: str, scene: str | int, claim: str) -> tuple[str, xr.Dataset]:
+        names = sorted(k.split("/", 1)[1] for k in self.sims if k.startswith(figure + "/"))
+        if not names:
+            raise ClaimError(f"claim {claim!r} needs the simulations of figure {figure!r} (results/sims/{figure}/)")
+        if isinstance(scene, int):
+            key = f"{figure}/{_by_length(self.sims, figure, names)[scene]}"
+        else:
+            key = f"{figure}/{scene}"
+        if key not in self.sims:
+            raise ClaimError(f"claim {claim!r} needs results/sims/{key}.nc")
+        return key, self.sims[key]
+
+
+def _by_length(sims, figure, names):
+    return sorted(names, key=lambda n: float(sims[f"{figure}/{n}"].attrs.get("L", 0.0)))
+
+
+# -- reading claims.yaml -----------------------------------------------------------------------
+def load(path: str | Path) -> list[dict[str, Any]]:
+    data = read_yaml(path, what="claims file", error=ClaimError)
+    if not isinstance(data, dict) or not isinstance(data.get("claims"), list):
+        raise ClaimError(f"claims file {str(path)!r}: needs a list 'claims' at the top level")
+    claims, seen = data["claims"], set()
+    for i, c in enumerate(claims):
+        where = f"claims file {str(path)!r}, claim {i + 1}"
+        if not isinstance(c, dict):
+            raise ClaimError(f"{where}: must be a mapping")
+        unknown = set(c) - KEYS
+        if unknown:
+            raise ClaimError(f"{where} ({c.get('id')!r}): unknown keys {sorted(unknown)}")
+        for key in ("id", "where", "claim", "test"):
+            if key not in c:
+                raise ClaimError(f"{where}: missing {key!r}")
+        if c["id"] in seen:
+            raise ClaimError(f"{where}: duplicate id {c['id']!r}")
+        seen.add(c["id"])
+        method = c["test"].get("method")
+        if method not in METHODS:
+            raise ClaimError(f"{where} ({c['id']!r}): test.method = {method!r}, expected one of {METHODS}")
+        if "paper" not in c and "paper_from" not in c:
+            raise ClaimError(f"{where} ({c['id']!r}): needs 'paper' or 'paper_from'")
+        if method == "value" and "tolerance" not in c:
+            raise ClaimError(f"{where} ({c['id']!r}): a value comparison needs 'tolerance' (rel or abs)")
+        tol = c.get("tolerance")
+        if tol is not None and (not isinstance(tol, dict) or set(tol) - {"rel", "abs"} or len(tol) != 1
+                                or not float(next(iter(tol.values()))) > 0):
+            raise ClaimError(f"{where} ({c['id']!r}): tolerance = {tol!r}, expected {{rel: x}} or {{abs: x}}, x > 0")
+    return claims
+
+
+# -- picking a number out of a dataset ------------------------------------------------------------
+def pick(ev: Evidence, spec: Mapping[str, Any], claim: str) -> tuple[float, str]:
+    """A number from a dataset: variable `var` (with `sel`, `isel`, `reduce`) or attribute `attr`."""
+    ds = ev.dataset(spec["figure"], claim)
+    where = f"results/datasets/{spec['figure']}.nc"
+    if "attr" in spec:
+        if spec["attr"] not in ds.attrs:
+            raise ClaimError(f"claim {claim!r}: {where} has no attribute {spec['attr']!r}")
+        return float(np.asarray(ds.attrs[spec["attr"]]).ravel()[0]), f"{where}:{spec['attr']}"
+    var = spec["var"]
+    if var not in ds:
+        raise ClaimError(f"claim {claim!r}: {where} has no variable {var!r}")
+    da = ds[var]
+    if spec.get("sel"):
+        da = da.sel(spec["sel"])
+    if spec.get("isel"):
+        da = da.isel(spec["isel"])
+    reduce = spec.get("reduce")
+    values = np.asarray(da.values, dtype=float).ravel()
+    if reduce:
+        value = {"max": np.max, "min": np.min, "mean": np.mean}[reduce](values)
+    elif values.size != 1:
+        raise ClaimError(f"claim {claim!r}: {where}:{var} selects {values.size} values; give sel/isel or reduce")
+    else:
+        value = values[0]
+    if not math.isfinite(value):
+        raise ClaimError(f"claim {claim!r}: {where}:{var} is not finite")
+    sel = ", ".join(f"{k}={v}" for k, v in {**spec.get("sel", {}), **spec.get("isel", {})}.items())
+    return float(value), f"{where}:{var}" + (f"[{sel}]" if sel else "") + (f" ({reduce})" if reduce else "")
+
+
+# -- named measures: (value, holds, evidence, note) ------------------------------------------------
+Measure = Callable[[Evidence, Mapping[str, Any], str], tuple[float, bool, str, str]]
+MEASURES: dict[str, Measure] = {}
+
+
+def measure(fn: Measure) -> Measure:
+    MEASURES[fn.__name__] = fn
+    return fn
+
+
+def _bulk(mask: np.ndarray, frac: float = 0.25) -> np.ndarray:
+    """Links of the contact stretch away from its ends (middle 1 - 2 frac)."""
+    idx = np.flatnonzero(mask)
+    if idx.size < 8:
+        return np.zeros(0, dtype=int)
+    lo, hi = idx[0], idx[-1]
+    n = hi - lo
+    return np.arange(lo + int(frac * n), hi - int(frac * n) + 1)
+
+
+@measure
+def wall_force_coefficient(ev, spec, claim):
+    """K EI/(R F_z^2) in the bulk of the longest frictionless rod of the figure."""
+    key, sim = ev.sim(spec["figure"], -1, claim)
+    if float(sim.attrs["k_fr"]) != 0.0:
+        raise ClaimError(f"claim {claim!r}: results/sims/{key}.nc has k_fr = {sim.attrs['k_fr']}, needs 0")
+    R, EI = float(sim.attrs["R"]), float(sim.attrs["EI"])
+    K = np.asarray(sim.wall_force_density.values)
+    Fj = np.abs(np.asarray(sim.F_z.values))
+    F = 0.5 * (Fj[1:] + Fj[:-1])                         # at the links
+    bulk = _bulk(np.asarray(sim.contact.values) > 0)
+    if bulk.size == 0:
+        raise ClaimError(f"claim {claim!r}: results/sims/{key}.nc has no helix on the wall")
+    value = float(np.median(K[bulk] * EI / (R * F[bulk] ** 2)))
+    return value, True, (f"results/sims/{key}.nc:wall_force_density, F_z "
+                         "(median over the middle half of the contact)"), ""
+
+
+@measure
+def capped_fraction(ev, spec, claim):
+    """Fraction of the links on the wall where the friction cap is below k_fr N."""
+    key, sim = ev.sim(spec["figure"], spec["scene"], claim)
+    k_fr, cap, l0 = (float(sim.attrs[k]) for k in ("k_fr", "friction_cap", "l0"))
+    N = np.asarray(sim.wall_force.values)
+    on = N > 0
+    capped = on & (cap > 0) & (k_fr * N > cap * l0)
+    value = float(capped.sum() / max(on.sum(), 1))
+    return value, value <= float(spec["max"]), f"results/sims/{key}.nc:wall_force, attrs k_fr, friction_cap", \
+        f"{int(capped.sum())} of {int(on.sum())} links"
+
+
+def _aspect_R(ds, i):
+    """R of threshold row i: from L^2/EI and L/R (Fig. 3) or the stored R (Fig. 8)."""
+    if "aspect_R" in ds:
+        return float(ds.aspect_R.values[i])
+    L = math.sqrt(float(ds.L2_over_EI.values[i]) * float(ds.attrs["EI"]))
+    return L / float(ds.aspect.values[i])
+
+
+@measure
+def threshold_R_dependence(ev, spec, claim):
+    """Largest relative difference, R = 2 against R = 1 at equal L/R (and equal kind of
+    threshold), of the threshold midpoints in units of EI/R^2."""
+    worst, n, files = 0.0, 0, []
+    for fig in spec["figures"]:
+        ds = ev.dataset(fig, claim)
+        files.append(f"results/datasets/{fig}.nc")
+        names = [str(s) for s in ds.aspect_scene.values]
+        mid = 0.5 * (np.asarray(ds.threshold_lo.values) + np.asarray(ds.threshold_hi.values))
+        mid = mid.reshape(len(names), -1)
+        for i, name in enumerate(names):
+            R = _aspect_R(ds, i)
+            if abs(R - 1.0) < 1e-12:
+                continue
+            base = name.rsplit("_R", 1)[0]
+            if base not in names:
+                continue
+            j = names.index(base)
+            EI = float(ds.attrs.get("EI", 1.0))
+            worst = max(worst, float(np.max(np.abs(mid[i] * R**2 / EI - mid[j] * _aspect_R(ds, j)**2 / EI)
+                                            / (mid[j] * _aspect_R(ds, j)**2 / EI))))
+            n += 1
+    if n == 0:
+        raise ClaimError(f"claim {claim!r}: no threshold at R != 1 with an R = 1 partner in {files}")
+    return worst, True, ", ".join(f + ":threshold_lo, threshold_hi" for f in files), f"{n} pairs"
+
+
+@measure
+def first_threshold_over_estimate(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    i = int(ds.attrs["main_index"])
+    lo, hi = (float(ds[v].values[i, 0]) for v in ("threshold_lo", "threshold_hi"))
+    est = float(ds.threshold_estimate.values[i, 0])
+    return 0.5 * (lo + hi) / est, True, (f"results/datasets/{spec['figure']}.nc:threshold_lo, threshold_hi, "
+                                         "threshold_estimate[first]"), \
+        f"bracket [{lo:.6g}, {hi:.6g}], estimate {est:.6g} EI/R^2 at L/R = {float(ds.aspect.values[i]):g}"
+
+
+@measure
+def two_thresholds(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    i = int(ds.attrs["main_index"])
+    lo, hi = np.asarray(ds.threshold_lo.values[i]), np.asarray(ds.threshold_hi.values[i])
+    holds = bool(hi[0] < lo[1])
+    return float(lo[1] / hi[0]), holds, f"results/datasets/{spec['figure']}.nc:threshold_lo, threshold_hi", \
+        f"second/first = {lo[1] / hi[0]:.3g}"
+
+
+@measure
+def straight_branch_deficit(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    i = int(ds.attrs["main_index"])
+    L = float(ds.aspect.values[i]) * _aspect_R(ds, i)
+    F = float(ds["load"].values[0])
+    Lz = float(ds.L_z.sel(branch="up").values[0])
+    compression = F * L / float(ds.attrs["k_ph"])
+    return (L - Lz) / compression, True, f"results/datasets/{spec['figure']}.nc:L_z[branch=up, first load]", \
+        f"L - L_z = {L - Lz:.4g} R, compression F L/k_ph = {compression:.3g} R"
+
+
+def _classes(ds, branch):
+    return np.asarray(ds.state_class.sel(branch=branch).values)
+
+
+@measure
+def planar_unstable(ev, spec, claim):
+    """Above the second threshold: the planar-only sweep stays planar (the state exists),
+    the fresh runs with an out-of-plane perturbation end 3-D (it is unstable)."""
+    ds = ev.dataset(spec["figure"], claim)
+    i = int(ds.attrs["main_index"])
+    loads = np.asarray(ds["load"].values)
+    above = loads > float(ds.threshold_hi.values[i, 1])
+    if not above.any():
+        raise ClaimError(f"claim {claim!r}: no load above the second threshold in results/datasets/{spec['figure']}.nc")
+    planar = float(np.mean(_classes(ds, "planar_up")[above] == 1))
+    three_d = float(np.mean(_classes(ds, "fresh")[above] == 2))
+    return three_d, planar >= 0.8 and three_d >= 0.8, \
+        f"results/datasets/{spec['figure']}.nc:state_class[branch=planar_up, fresh]", \
+        f"above the second threshold: {planar:.0%} of planar-only runs planar, {three_d:.0%} of fresh runs 3-D"
+
+
+@measure
+def friction_keeps_planar(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    loads = np.asarray(ds["load"].values)
+    both = (_classes(ds, "up") == 2) & (_classes(ds, "up_friction") == 1)
+    span = f"{loads[both].min():.3g}-{loads[both].max():.3g} EI/R^2" if both.any() else "none"
+    return float(both.sum()), bool(both.any()), \
+        f"results/datasets/{spec['figure']}.nc:state_class[branch=up, up_friction]", \
+        f"loads where the frictionless sweep is 3-D and the frictional one planar: {span}"
+
+
+@measure
+def ends_detach(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    top = float(np.min(ds.detached_top.values))
+    force = float(np.min(ds.end_contact_force.values))
+    return top, top > 0 and force > 0, f"results/datasets/{spec['figure']}.nc:detached_top, end_contact_force", \
+        f"tip wall force {force:.3g} EI/R^2"
+
+
+@measure
+def final_out_of_plane(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    oop = np.asarray(ds.frame_out_of_plane.values)
+    return float(oop[-1]), bool(oop[-1] > 0.05 and oop[-1] > oop[0]), \
+        f"results/datasets/{spec['figure']}.nc:frame_out_of_plane", f"planar frame {oop[0]:.2g} R"
+
+
+@measure
+def defect_fraction(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    n, of = int(ds.attrs["seeds_with_defects"]), int(ds.attrs["seeds"])
+    return n / of, n > 0, f"results/datasets/{spec['figure']}.nc:attrs seeds_with_defects, seeds", f"{n} of {of} seeds"
+
+
+@measure
+def defects_after_unloading(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    per_state = np.asarray(ds.attrs["seeds_with_defects_per_state"]).ravel()
+    loads = np.asarray(ds.state_load.values)
+    converged = bool(np.all(ds.final_converged.values))
+    holds = converged and per_state[0] > 0 and per_state[-1] < per_state[0]
+    text = ", ".join(f"{int(n)} at {load:g}" for n, load in zip(per_state, loads))
+    return float(per_state[-1]), holds, \
+        f"results/datasets/{spec['figure']}.nc:attrs seeds_with_defects_per_state, state_load", \
+        f"seeds with a defect: {text} EI/R^2"
+
+
+@measure
+def exponent_spread(ev, spec, claim):
+    cs = [c for f in spec["figures"] for c in np.asarray(ev.dataset(f, claim).fit_c.values).ravel()]
+    return float(np.max(np.abs(np.asarray(cs) - float(spec["around"])))), True, \
+        ", ".join(f"results/datasets/{f}.nc:fit_c" for f in spec["figures"]), "c = " + ", ".join(f"{c:.3g}" for c in cs)
+
+
+@measure
+def pitch_falls_less(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    d_omega, d_F = float(ds.drop_omega), float(ds.drop_F)
+    return d_omega, 0 < d_omega < d_F, f"results/datasets/{spec['figure']}.nc:drop_omega, drop_F", \
+        f"|dphi/ds| falls by {d_omega:.0%}, |F_z| by {d_F:.0%}"
+
+
+def _last_panel(ev, figure, var, claim):
+    return float(np.asarray(ev.dataset(figure, claim)[var].values).ravel()[-1])
+
+
+@measure
+def small_load_transmits_more(ev, spec, claim):
+    small, large = spec["figures"]
+    f7 = _last_panel(ev, small, "transmitted_fraction", claim)
+    f4 = _last_panel(ev, large, "transmitted_fraction", claim)
+    return f7 / f4, f7 > f4, (f"results/datasets/{small}.nc:transmitted_fraction, "
+                              f"results/datasets/{large}.nc:transmitted_fraction[last panel]"), \
+        f"F(L)/F(0) = {f7:.3g} against {f4:.3g}"
+
+
+@measure
+def exponent_change(ev, spec, claim):
+    small, large = spec["figures"]
+    c7 = _last_panel(ev, small, "fit_c", claim)
+    c4 = _last_panel(ev, large, "fit_c", claim)
+    return abs(c7 - c4), True, f"results/datasets/{small}.nc:fit_c, results/datasets/{large}.nc:fit_c[last panel]", \
+        f"c = {c7:.3g} against {c4:.3g}"
+
+
+def detached_length(sim: xr.Dataset, run: int = 4) -> float:
+    """Arc length from the loaded end to the first stretch of `run` consecutive links on
+    the wall (the isolated tip contact does not count)."""
+    on = np.asarray(sim.contact.values) > 0
+    l0 = float(sim.attrs["l0"])
+    for i in range(on.size - run + 1):          # link 0 is at the support, the loaded end is the last link
+        j = on.size - 1 - i
+        if on[j - run + 1:j + 1].all():
+            return i * l0
+    return on.size * l0
+
+
+@measure
+def boundary_wider(ev, spec, claim):
+    small, large = spec["figures"]
+    k7, s7 = ev.sim(small, -1, claim)
+    k4, s4 = ev.sim(large, -1, claim)
+    if float(s4.attrs["k_fr"]) < float(s7.attrs["k_fr"]):
+        raise ClaimError(f"claim {claim!r}: the longest-L scene of fig4_Fonl is not its panel (c)")
+    d7, d4 = detached_length(s7), detached_length(s4)
+    return d7 / max(d4, 1e-300), d7 > d4, f"results/sims/{k7}.nc:contact, results/sims/{k4}.nc:contact", \
+        f"detached at the loaded end: {d7:.3g} R against {d4:.3g} R"
+
+
+@measure
+def transmitted_decays(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    L = np.asarray(ds.L.values, dtype=float)
+    F = np.asarray(ds.F_transmitted.values, dtype=float)
+    frac = F / float(ds.attrs["load"])
+    slope = float(np.log(F[-1] / F[-2]) / np.log(L[-1] / L[-2]))
+    holds = bool(np.all(np.diff(F) < 0) and slope < -0.5)
+    return float(frac[-1]), holds, f"results/datasets/{spec['figure']}.nc:F_transmitted", \
+        f"F(L)/F(0) = {frac[-1]:.3g} at L/R = {L[-1]:g}; slope of the last two lengths {slope:.2f}"
+
+
+@measure
+def half_reduction_length(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    L = np.asarray(ds.L.values, dtype=float)
+    frac = np.asarray(ds.F_transmitted.values, dtype=float) / float(ds.attrs["load"])
+    below = np.flatnonzero(frac < 0.5)
+    lo, hi = float(spec["lo"]), float(spec["hi"])
+    evidence = f"results/datasets/{spec['figure']}.nc:F_transmitted"
+    if below.size == 0:
+        return float(L[-1]), False, evidence, f"F(L)/F(0) stays above 1/2 up to L/R = {L[-1]:g}"
+    i = below[0]
+    if i == 0:
+        return float(L[0]), lo <= L[0] <= hi, evidence, \
+            f"already {frac[0]:.3g} at the shortest rod, L/R = {L[0]:g}: the value is an upper bound"
+    # log-linear interpolation between the bracketing lengths
+    x = np.interp(np.log(0.5), [np.log(frac[i]), np.log(frac[i - 1])], [np.log(L[i]), np.log(L[i - 1])])
+    value = float(np.exp(x))
+    return value, lo <= value <= hi, evidence, f"between L/R = {L[i - 1]:g} and {L[i]:g}"
+
+
+@measure
+def fold_threshold_exists(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    lo, hi = (float(v) for v in np.asarray(ds.attrs["fold_threshold_range"]).ravel()[:2])
+    limit = float(ds.attrs["helix_limit"])
+    return 0.5 * (lo + hi), hi < limit, \
+        f"results/datasets/{spec['figure']}.nc:attrs fold_threshold_range, helix_limit", \
+        f"fold thresholds {lo:.3g}-{hi:.3g} EI/R^2, helix limit {limit:.3g}"
+
+
+@measure
+def event_escapes(ev, spec, claim):
+    ds = ev.dataset(spec["figure"], claim)
+    esc = int(ds.attrs["event_escaped"])
+    return float(esc), esc == 1, f"results/datasets/{spec['figure']}.nc:attrs event_escaped", \
+        f"L/R = {float(ds.attrs['event_L']) / float(ds.attrs['event_R']):g}, load {float(ds.attrs['event_load']):g}"
+
+
+# material numbers of the paper's conclusions (SI units)
+NANOTUBE = {"L": 100e-6, "E": 1e12, "R": 1e-6, "load": 0.25, "F_range": (1e-9, 10e-9),
+            "plausible_radius": (1e-9, 50e-9)}
+DNA = {"persistence_length": 50e-9, "diameter": 2e-9, "aspect_ratio": 100.0}
+
+
+@measure
+def nanotube_radius(ev, spec, claim):
+    """Tube radius r (solid section, I = pi r^4/4) for which load EI/R^2 lies in the nN range."""
+    p = NANOTUBE
+    r = [(4 * F * p["R"] ** 2 / (p["load"] * math.pi * p["E"])) ** 0.25 for F in p["F_range"]]
+    ok = p["L"] / p["R"] >= 100 and p["plausible_radius"][0] <= r[0] and r[1] <= p["plausible_radius"][1]
+    return r[0] * 1e9, ok, "confined_rod.claims.NANOTUBE (computed)", \
+        f"L/R = {p['L'] / p['R']:g}; tube radius {r[0] * 1e9:.3g}-{r[1] * 1e9:.3g} nm for 1-10 nN"
+
+
+@measure
+def dna_pore_radius(ev, spec, claim):
+    p = DNA
+    R = p["persistence_length"] / p["aspect_ratio"]
+    return R * 1e9, R < p["diameter"] / 2, "confined_rod.claims.DNA (computed)", \
+        f"pore radius {R * 1e9:.2g} nm against the DNA radius {p['diameter'] / 2 * 1e9:.2g} nm"
+
+
+# measures that read scene simulations (results/sims/), from the test's figure or figures
+SIM_MEASURES = {"wall_force_coefficient", "capped_fraction", "boundary_wider"}
+
+
+def required_figures(claims: list[Mapping[str, Any]]) -> dict[str, list[str]]:
+    """figure -> the claims that read its dataset or simulations."""
+    out: dict[str, list[str]] = {}
+    for c in claims:
+        for spec in (c["test"], c.get("paper_from") or {}):
+            for f in ([spec["figure"]] if "figure" in spec else []) + list(spec.get("figures", [])):
+                out.setdefault(f, []).append(c["id"])
+    return out
+
+
+def sim_figures(claims: list[Mapping[str, Any]]) -> list[str]:
+    """The figures whose scene simulations the claims read."""
+    out: list[str] = []
+    for c in claims:
+        t = c["test"]
+        if t.get("method") == "measure" and t.get("name") in SIM_MEASURES:
+            out += [f for f in ([t["figure"]] if "figure" in t else t.get("figures", [])) if f not in out]
+    return out
+
+
+# -- evaluation --------------------------------------------------------------------------------
+def fmt(value: float, spec: str | None = None) -> str:
+    """Plain-text number: the claim's format, else 3 significant digits without exponent
+    where that is readable."""
+    if spec:
+        return format(value, spec)
+    if value != 0 and (abs(value) >= 1e5 or abs(value) < 1e-3):
+        return format(value, ".2e")
+    return format(value, ".3g")
+
+
+def _tolerance_text(tol):
+    if not tol:
+        return ""
+    (kind, x), = tol.items()
+    return f"{'relative' if kind == 'rel' else 'absolute'} {x:g}"
+
+
+def _within(ours, paper, tol):
+    (kind, x), = tol.items()
+    if kind == "rel":
+        return abs(ours - paper) <= x * abs(paper)
+    return abs(ours - paper) <= x
+
+
+def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
+    from . import derivations
+
+    test, cid = c["test"], c["id"]
+    method = test["method"]
+    reading = str(c.get("reading", ""))
+    tol = c.get("tolerance")
+    paper_value = None
+    if "paper_from" in c:
+        paper_value, paper_src = pick(ev, c["paper_from"], cid)
+        paper_text = fmt(paper_value, c.get("format"))
+    else:
+        paper_text = str(c["paper"])
+        if isinstance(c["paper"], (int, float)) and not isinstance(c["paper"], bool):
+            paper_value = float(c["paper"])
+    ours_value, note = None, ""
+    if method == "not_testable":
+        return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, "-", None, "", "not testable",
+                       "-", reading, str(test.get("reason", "")))
+    if method == "derivation":
+        if test.get("name") not in derivations.DERIVATIONS:
+            raise ClaimError(f"claim {cid!r}: no derivation {test.get('name')!r} in confined_rod.derivations")
+        d = derivations.DERIVATIONS[test["name"]]()
+        ours, holds, evidence, note = d.ours, d.agrees, f"confined_rod.derivations.{test['name']}", d.detail
+    else:
+        if method == "value":
+            ours_value, evidence = pick(ev, test, cid)
+            holds = True
+        elif method in ("measure", "range"):
+            name = test.get("name")
+            if method == "range":
+                ours_value, evidence = pick(ev, test, cid)
+                holds = float(test["lo"]) <= ours_value <= float(test["hi"])
+            elif name not in MEASURES:
+                raise ClaimError(f"claim {cid!r}: no measure {name!r} in confined_rod.claims.MEASURES")
+            else:
+                ours_value, holds, evidence, note = MEASURES[name](ev, test, cid)
+        if not math.isfinite(ours_value):
+            raise ClaimError(f"claim {cid!r}: the measured value is not finite ({evidence})")
+        ours = fmt(ours_value, c.get("format"))
+        if tol:
+            if paper_value is None:
+                raise ClaimError(f"claim {cid!r}: a tolerance needs a numeric paper value, got {paper_text!r}")
+            holds = holds and _within(ours_value, paper_value, tol)
+    verdict = ("reproduced under reading" if reading else "reproduced") if holds else "refuted"
+    return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, ours, ours_value, _tolerance_text(tol),
+                   verdict, evidence, reading, note)
+
+
+def evaluate(claims: list[Mapping[str, Any]], ev: Evidence) -> list[Verdict]:
+    return [evaluate_one(c, ev) for c in claims]
+
+
+COLUMNS = ("id", "where", "claim", "paper", "ours", "verdict", "tolerance", "reading", "evidence", "note")
+
+
+VARIABLE = {"claim": "statement"}   # the claim's text (the dimension is called claim)
+
+
+def to_dataset(verdicts: list[Verdict]) -> xr.Dataset:
+    """The verdicts as a CF-style dataset: text variables, and the numbers with a flag where
+    a claim has one (no NaN)."""
+    from .io import finalize
+
+    def text(name, long_name):
+        return xr.Variable("claim", np.array([str(getattr(v, name)) for v in verdicts], dtype=object),
+                           {"long_name": long_name, "units": "1"})
+
+    def number(name, long_name):
+        vals = [getattr(v, name) for v in verdicts]
+        return (xr.Variable("claim", np.array([x if x is not None else 0.0 for x in vals], dtype=float),
+                            {"long_name": long_name + " (0 where has_" + name + " is 0)", "units": "1"}),
+                xr.Variable("claim", np.array([x is not None for x in vals], dtype=np.int8),
+                            {"long_name": "1 where the claim has " + long_name, "units": "1"}))
+
+    data = {VARIABLE.get(name, name): text(name, long) for name, long in (
+        ("where", "section, equation or figure of the original"), ("claim", "what the paper says"),
+        ("paper", "the paper's value as printed"), ("ours", "our value"),
+        ("verdict", "reproduced, reproduced under reading, refuted or not testable"),
+        ("tolerance", "tolerance deciding the verdict"), ("reading", "interpretation the verdict needs"),
+        ("evidence", "dataset and variable, or derivation, behind our value"), ("note", "how it was decided"))}
+    for name, long in (("paper_value", "the paper's value"), ("ours_value", "our value")):
+        data[name], data["has_" + name] = number(name, long)
+    ds = xr.Dataset(data, coords={"claim": ("claim", np.array([v.id for v in verdicts], dtype=object),
+                                            {"long_name": "claim id (paper/claims.yaml)", "units": "1"})})
+    for verdict in VERDICTS:
+        ds.attrs["n_" + verdict.replace(" ", "_")] = sum(v.verdict == verdict for v in verdicts)
+    return finalize(ds, "Claims of Svensek & Podgornik, evaluated on this build's datasets", {})
+
+
+def to_csv(verdicts: list[Verdict]) -> str:
+    import csv
+    import io
+
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(COLUMNS)
+    for v in verdicts:
+        w.writerow([getattr(v, c) for c in COLUMNS])
+    return buf.getvalue()

@@ -1,0 +1,181 @@
+"""Check the built manuscript against the datasets it was generated from.
+
+    python tools/check_paper.py config/ci.yaml               # the PDF of that config's build
+    python tools/check_paper.py config/ci.yaml --perturb     # and: a config change reaches the PDF
+
+Checks (pdfinfo, pdftotext of poppler-utils):
+* the PDF exists and has the config's expected number of pages (paper.pages: [min, max]);
+* it has one numbered figure per figure of the config;
+* no unresolved reference ("??");
+* every generated value the manuscript quotes (\\ours, \\paperval, \\verdict, \\val) appears in
+  the text exactly as results/paper/expected.json (from the datasets) says;
+* every row of the claims table (C1, C2, ...) carries its claim's verdict, paper value and ours;
+* results/claims.csv has one row per claim of paper/claims.yaml, each with a verdict.
+With --perturb: change one scene parameter (the short rod of fig1_short_long: L -> L + 4 R) in a
+copy of the config, rebuild the PDF with Snakemake, and check that the load/Euler ratio quoted in
+the text changed and equals the new dataset's value.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import xarray as xr
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "results"
+sys.path.insert(0, str(ROOT / "src"))
+
+from confined_rod import claims as claims_mod  # noqa: E402
+from confined_rod import paper  # noqa: E402
+from confined_rod.claims import fmt  # noqa: E402
+
+MACRO = re.compile(r"\\(ours|paperval|verdict|val)\{([^}]*)\}")
+FAMILY = {"ours": "ours", "paperval": "paper", "verdict": "verdict", "val": "val"}
+
+
+def fail(msg: str) -> None:
+    print(f"check_paper: FAIL: {msg}")
+    sys.exit(1)
+
+
+def pdf_text(pdf: Path, layout: bool = False) -> str:
+    args = ["pdftotext"] + (["-layout"] if layout else []) + [str(pdf), "-"]
+    return subprocess.run(args, capture_output=True, text=True, check=True).stdout
+
+
+def in_order(value: str, segment: str) -> bool:
+    """The words of `value` appear in `segment` in order (a cell's lines may be interleaved
+    with its neighbours' in the text)."""
+    pos = 0
+    for word in value.split():
+        pos = segment.find(paper.normalize(word), pos)
+        if pos < 0:
+            return False
+        pos += len(paper.normalize(word))
+    return True
+
+
+def pages(pdf: Path) -> int:
+    out = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, check=True).stdout
+    return int(re.search(r"^Pages:\s+(\d+)", out, re.M).group(1))
+
+
+def used_macros(tex: Path, numbers: Path) -> set[tuple[str, str]]:
+    """Macro calls in the manuscript and in the generated tables that use \\val."""
+    text = tex.read_text() + numbers.read_text()
+    return {(FAMILY[f], k) for f, k in MACRO.findall(text) if k != "#1" and not k.startswith("#")}
+
+
+def check(config_path: str) -> dict:
+    config = yaml.safe_load(Path(config_path).read_text())
+    spec = config.get("paper")
+    if not spec:
+        fail(f"{config_path} has no paper section")
+    name = Path(spec["manuscript"]).stem
+    pdf = RESULTS / "paper" / f"{name}.pdf"
+    if not pdf.is_file():
+        fail(f"{pdf} does not exist")
+    expected = json.loads((RESULTS / "paper" / "expected.json").read_text())
+    n_pages = pages(pdf)
+    lo, hi = spec.get("pages", [1, 10_000])
+    if not lo <= n_pages <= hi:
+        fail(f"{pdf.name} has {n_pages} pages, expected {lo}-{hi} (paper.pages of {config_path})")
+    raw = pdf_text(pdf)
+    text = paper.normalize(raw)
+    if "??" in raw:
+        fail(f"{pdf.name} has an unresolved reference ('??')")
+    figs = sorted({int(n) for n in re.findall(r"FIG\.\s*(\d+)\.", raw)})
+    if figs != list(range(1, expected["n_figures"] + 1)):
+        fail(f"{pdf.name}: numbered figures {figs}, expected 1..{expected['n_figures']} (one per figure of the config)")
+    missing = []
+    for family, key in sorted(used_macros(ROOT / spec["manuscript"], RESULTS / "paper" / "numbers.tex")):
+        plain = expected["macros"].get(f"{family}@{key}")
+        if plain is None:
+            fail(f"the manuscript uses \\{family}{{{key}}}, which the build does not generate")
+        if paper.normalize(plain) not in text:
+            missing.append(f"{family}{{{key}}} = {plain!r}")
+    if missing:
+        fail(f"{len(missing)} generated values are not in the PDF text: " + "; ".join(missing[:10]))
+    # the claims table, row by row (labels C1, C2, ... in order)
+    layout = pdf_text(pdf, layout=True)            # rows stay on their lines
+    table = paper.normalize(layout[layout.rfind("Every checkable statement"):])
+    rows, start = expected["claims"], 0
+    for i, row in enumerate(rows):
+        start = table.find(row["label"], start)
+        if start < 0:
+            fail(f"claims table: row {row['label']} ({row['id']}) not found")
+        end = table.find(rows[i + 1]["label"], start + 1) if i + 1 < len(rows) else table.find("Thereadings", start)
+        seg = table[start:end if end > 0 else len(table)]
+        # the verdict, and the paper's value and ours where they are numbers (a text spanning several
+        # lines of a cell comes out of pdftotext interleaved with the neighbouring cells)
+        for what in ("verdict", "ours", "paper"):
+            if what != "verdict" and not paper.is_number(row[what]):
+                continue
+            if not in_order(row[what], seg):
+                fail(f"claims table row {row['label']} ({row['id']}): {what} {row[what]!r} not in {seg[:200]!r}")
+    listed = claims_mod.load(ROOT / spec["claims"])
+    with open(RESULTS / "claims.csv") as f:
+        table_rows = list(csv.DictReader(f))
+    if [r["id"] for r in table_rows] != [c["id"] for c in listed]:
+        fail("results/claims.csv does not have one row per claim of " + spec["claims"])
+    bad = [r["id"] for r in table_rows if r["verdict"] not in claims_mod.VERDICTS]
+    if bad:
+        fail(f"results/claims.csv: claims without a verdict: {bad}")
+    counts = {v: sum(r["verdict"] == v for r in table_rows) for v in claims_mod.VERDICTS}
+    print(f"check_paper: {pdf.name}: {n_pages} pages, {len(figs)} figures, "
+          f"{len(used_macros(ROOT / spec['manuscript'], RESULTS / 'paper' / 'numbers.tex'))} generated "
+          f"values and {len(rows)} claim rows found in the text; verdicts {counts}")
+    return expected
+
+
+def perturb(config_path: str) -> None:
+    """A scene parameter changed in the config changes the number in the PDF."""
+    config = yaml.safe_load(Path(config_path).read_text())
+    fig = config["figures"]["fig1_short_long"]
+    short = min(fig["scenes"], key=lambda s: fig["scenes"][s].get("L", 0))
+    before = json.loads((RESULTS / "paper" / "expected.json").read_text())["macros"]["ours@euler_ratio_short"]
+    fig["scenes"][short]["L"] = float(fig["scenes"][short]["L"]) + 4.0
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", dir=ROOT / "config", delete=False) as f:
+        yaml.safe_dump(config, f, sort_keys=False)
+        tmp = Path(f.name)
+    try:
+        subprocess.run([str(ROOT / ".venv" / "bin" / "snakemake"), "--cores", "2", "--configfile", str(tmp),
+                        "--quiet", "rules", f"results/paper/{Path(config['paper']['manuscript']).stem}.pdf"],
+                       cwd=ROOT, check=True)
+    finally:
+        tmp.unlink()
+    expected = check(config_path)
+    after = expected["macros"]["ours@euler_ratio_short"]
+    ds = xr.load_dataset(RESULTS / "datasets" / "fig1_short_long.nc")
+    spec = next(c for c in claims_mod.load(ROOT / "paper" / "claims.yaml") if c["id"] == "euler_ratio_short")
+    value = fmt(float(ds.euler_ratio.isel(scene=0)), spec.get("format"))
+    if after == before or after != value:
+        fail(f"after L -> L + 4 R of fig1_short_long/{short}: the PDF quotes {after!r} (before {before!r}), "
+             f"the dataset gives {value!r}")
+    print(f"check_paper: fig1_short_long/{short} L + 4 R: the PDF's load/Euler ratio went from {before} to {after}, "
+          "as in the rebuilt dataset")
+
+
+def main() -> None:
+    global RESULTS
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("config")
+    ap.add_argument("--results", default=str(ROOT / "results"), help="the build's results folder (default: results/)")
+    ap.add_argument("--perturb", action="store_true", help="also check that a config change reaches the PDF")
+    args = ap.parse_args()
+    RESULTS = Path(args.results)
+    check(args.config)
+    if args.perturb:
+        perturb(args.config)
+
+
+if __name__ == "__main__":
+    main()

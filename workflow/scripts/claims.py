@@ -1,0 +1,18 @@
+"""Snakemake script of rule `claims`: every claim of the original, evaluated on the datasets."""
+import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
+
+# isort: split
+import xarray as xr
+
+from confined_rod import claims
+from confined_rod.io import logged, write_dataset, write_text
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    datasets = {f: xr.load_dataset(p) for f, p in zip(sm.params.figures, sm.input.datasets)}
+    sims = {k: xr.load_dataset(p) for k, p in zip(sm.params.sim_keys, sm.input.sims)}
+    verdicts = claims.evaluate(claims.load(sm.input.claims), claims.Evidence(datasets, sims))
+    for v in verdicts:
+        print(f"{v.id:28s} {v.verdict:26s} paper {v.paper[:30]!r:34s} ours {v.ours[:30]!r:34s} {v.evidence}")
+    write_dataset(claims.to_dataset(verdicts), sm.output.nc)
+    write_text(claims.to_csv(verdicts), sm.output.csv)

@@ -1,0 +1,25 @@
+"""Snakemake script of rule `paper_sources`: the manuscript's generated numbers, tables and figures."""
+import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
+
+# isort: split
+import xarray as xr
+
+from confined_rod import paper
+from confined_rod.io import logged, write_text
+
+sm = snakemake  # noqa: F821 (injected by Snakemake)
+with logged(sm.log[0]):
+    datasets = {f: xr.load_dataset(p) for f, p in zip(sm.params.figures, sm.input.datasets)}
+    verdicts = paper.verdicts_from_dataset(xr.load_dataset(sm.input.claims))
+    macros = paper.Macros()
+    paper.claim_macros(verdicts, macros)
+    paper.dataset_macros(datasets, macros)
+    macros.add("val", "config", sm.params.config_name)
+    order = [tuple(x) for x in sm.params.order]
+    paper.figure_macros(order, macros)
+    write_text(macros.tex(), sm.output.numbers)
+    write_text(paper.claims_table(verdicts), sm.output.table)
+    write_text(paper.readings_table(verdicts), sm.output.readings)
+    write_text(paper.figures_tex(order, sm.params.captions, datasets, sm.params.config_name), sm.output.figures)
+    write_text(paper.write_expected(macros, len(order), verdicts), sm.output.expected)
+    print(f"{len(verdicts)} claims, {len(macros.items)} macros, {len(order)} figures")
