@@ -255,14 +255,25 @@ def straight_branch_deficit(ev, spec, claim):
     i = int(ds.attrs["main_index"])
     L = float(ds.aspect.values[i]) * _aspect_R(ds, i)
     F = float(ds["load"].values[0])
-    Lz = float(ds.L_z.sel(branch="up").values[0])
+    straight = [i for i, (p, k) in enumerate(zip(ds.branch_protocol.values, ds.branch_k_fr.values))
+                if str(p) == "straight" and float(k) == 0]
+    if not straight:
+        raise ClaimError(f"claim {claim!r}: the bifurcation figure has no frictionless sweep from the straight rod")
+    Lz = float(ds.L_z.values[straight[0], 0])
     compression = F * L / float(ds.attrs["k_ph"])
-    return (L - Lz) / compression, True, f"results/datasets/{spec['figure']}.nc:L_z[branch=up, first load]", \
+    return (L - Lz) / compression, True, \
+        f"results/datasets/{spec['figure']}.nc:L_z[first straight frictionless sweep, first load]", \
         f"L - L_z = {L - Lz:.4g} R, compression F L/k_ph = {compression:.3g} R"
 
 
-def _classes(ds, branch):
-    return np.asarray(ds.state_class.sel(branch=branch).values)
+def _classes(ds, protocol: str, frictional: bool, claim: str) -> np.ndarray:
+    """State classes along the first branch (config order) run with this protocol, with or
+    without friction."""
+    for i, (p, k) in enumerate(zip(ds.branch_protocol.values, ds.branch_k_fr.values)):
+        if str(p) == protocol and (float(k) > 0) == frictional:
+            return np.asarray(ds.state_class.values[i])
+    raise ClaimError(f"claim {claim!r}: the bifurcation figure has no {'frictional' if frictional else 'frictionless'} "
+                     f"sweep with protocol {protocol!r} (branches: {', '.join(map(str, ds.branch.values))})")
 
 
 @measure
@@ -275,10 +286,10 @@ def planar_unstable(ev, spec, claim):
     above = loads > float(ds.threshold_hi.values[i, 1])
     if not above.any():
         raise ClaimError(f"claim {claim!r}: no load above the second threshold in results/datasets/{spec['figure']}.nc")
-    planar = float(np.mean(_classes(ds, "planar_up")[above] == 1))
-    three_d = float(np.mean(_classes(ds, "fresh")[above] == 2))
+    planar = float(np.mean(_classes(ds, "planar", False, claim)[above] == 1))
+    three_d = float(np.mean(_classes(ds, "planar_then_3d", False, claim)[above] == 2))
     return three_d, planar >= 0.8 and three_d >= 0.8, \
-        f"results/datasets/{spec['figure']}.nc:state_class[branch=planar_up, fresh]", \
+        f"results/datasets/{spec['figure']}.nc:state_class[protocol planar, planar_then_3d]", \
         f"above the second threshold: {planar:.0%} of planar-only runs planar, {three_d:.0%} of fresh runs 3-D"
 
 
@@ -286,10 +297,10 @@ def planar_unstable(ev, spec, claim):
 def friction_keeps_planar(ev, spec, claim):
     ds = ev.dataset(spec["figure"], claim)
     loads = np.asarray(ds["load"].values)
-    both = (_classes(ds, "up") == 2) & (_classes(ds, "up_friction") == 1)
+    both = (_classes(ds, "straight", False, claim) == 2) & (_classes(ds, "straight", True, claim) == 1)
     span = f"{loads[both].min():.3g}-{loads[both].max():.3g} EI/R^2" if both.any() else "none"
     return float(both.sum()), bool(both.any()), \
-        f"results/datasets/{spec['figure']}.nc:state_class[branch=up, up_friction]", \
+        f"results/datasets/{spec['figure']}.nc:state_class[protocol straight, k_fr = 0 and > 0]", \
         f"loads where the frictionless sweep is 3-D and the frictional one planar: {span}"
 
 
