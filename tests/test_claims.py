@@ -79,6 +79,11 @@ def test_relative_tolerance_and_paper_value_from_a_dataset():
     assert v.verdict == "refuted" and v.paper == "0.515" and v.paper_value == 0.515
     ev.datasets["f"]["ours"][0] = 0.5
     assert claims.evaluate_one(c, ev).verdict == "reproduced"            # 3 % off, within 10 %
+    # a printed value the config does not give is missing evidence, not a zero
+    c["paper_from"]["require"] = "has_printed"
+    ev.datasets["f"]["has_printed"] = ("panel", np.array([0], dtype=np.int8))
+    with pytest.raises(claims.ClaimError, match="has_printed is 0"):
+        claims.evaluate_one(c, ev)
 
 
 def test_missing_evidence_fails_instead_of_deciding():

@@ -127,6 +127,13 @@ def pick(ev: Evidence, spec: Mapping[str, Any], claim: str) -> tuple[float, str]
         da = da.sel(spec["sel"])
     if spec.get("isel"):
         da = da.isel(spec["isel"])
+    if spec.get("require"):                      # a flag variable that must be 1 where we read
+        flag = ds[spec["require"]]
+        flag = flag.sel(spec["sel"]) if spec.get("sel") else flag
+        flag = flag.isel(spec["isel"]) if spec.get("isel") else flag
+        if not np.all(np.asarray(flag.values) == 1):
+            raise ClaimError(f"claim {claim!r}: {where}:{spec['require']} is 0 where {var} is read "
+                             "(the config gives no value there)")
     reduce = spec.get("reduce")
     values = np.asarray(da.values, dtype=float).ravel()
     if reduce:

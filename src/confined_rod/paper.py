@@ -211,7 +211,7 @@ def figures_tex(order: list[tuple[str, int | None]], captions: Mapping[str, str]
 def figure_macros(order: list[tuple[str, int | None]], macros: Macros) -> None:
     """\\figref{name}: 'Fig. n' of a figure this config builds, or a note that it does not."""
     macros.raw.append(r"\newcommand{\figref}[1]{\ifcsname cr@fig@#1\endcsname Fig.~\ref{fig:#1}\else"
-                      r" (figure \texttt{#1} is not built by this config)\fi}")
+                      r" (figure \texttt{\detokenize{#1}} is not built by this config)\fi}")
     macros.raw += [rf"\expandafter\def\csname cr@fig@{_key(name)}\endcsname{{}}" for name, _ in order]
 
 
