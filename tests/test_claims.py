@@ -185,3 +185,12 @@ def test_paper_section_refuses_claims_whose_figure_is_not_built():
     broken["paper"]["claims"] = "paper/none.yaml"
     with pytest.raises(ConfigError, match="paper.claims: 'paper/none.yaml' is not a file"):
         pipeline.check_paper(broken)
+
+
+def test_paper_without_tex_says_what_to_install(monkeypatch, tmp_path):
+    import shutil
+
+    monkeypatch.setattr(shutil, "which", lambda exe: None)
+    with pytest.raises(RuntimeError, match="apt-get install latexmk texlive-publishers"):
+        paper.build_pdf(str(ROOT / "paper" / "reproduction.tex"), [], [], str(tmp_path / "x.pdf"))
+    assert not (tmp_path / "x.pdf").exists()

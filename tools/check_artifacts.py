@@ -56,9 +56,21 @@ def check_png(path: Path) -> list[str]:
 
 
 def check_pdf(path: Path) -> list[str]:
+    """A PDF with at least one page (pdfinfo where installed: pdflatex compresses its page
+    objects into object streams, so '/Page' need not appear in the bytes)."""
+    import shutil
+    import subprocess
+
     data = path.read_bytes()
-    if not data.startswith(b"%PDF-") or b"/Page" not in data or len(data) < 2000:
+    if not data.startswith(b"%PDF-") or len(data) < 2000:
         return [f"{path}: not a non-empty PDF ({len(data)} bytes)"]
+    if shutil.which("pdfinfo"):
+        out = subprocess.run(["pdfinfo", str(path)], capture_output=True, text=True)
+        pages = [ln.split()[-1] for ln in out.stdout.splitlines() if ln.startswith("Pages:")]
+        if out.returncode != 0 or not pages or int(pages[0]) < 1:
+            return [f"{path}: pdfinfo finds no pages ({out.stderr.strip()[:200]})"]
+    elif b"/Page" not in data and b"/ObjStm" not in data:
+        return [f"{path}: no page objects ({len(data)} bytes)"]
     return []
 
 
