@@ -38,7 +38,8 @@ PROBES = {
                                          {"simulate", "probe", "load_path"}),
     PKG / "paths.py": ({"load_path"}, set()),
     # the manuscript: its generated parts and the claims re-run, never a simulation or a dataset
-    PKG / "paper.py": ({"paper_sources", "paper"}, {"simulate", "probe", "load_path", "postprocess", "figure"}),
+    PKG / "paper.py": ({"paper_sources", "paper"},
+                       {"simulate", "probe", "load_path", "postprocess", "figure", "claims"}),
     PKG / "claims.py": ({"claims", "paper_sources", "paper"}, {"simulate", "probe", "load_path", "postprocess"}),
     PKG / "model" / "kernels.py": ({"simulate", "postprocess", "figure"}, set()),
     PKG / "solvers" / "explicit.py": ({"simulate"}, set()),

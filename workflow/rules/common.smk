@@ -107,7 +107,8 @@ def path_priority(wildcards):
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
 PAPER = config.get("paper") or {}
-PAPER_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py", "paper.py")]
+CLAIMS_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py")]
+PAPER_CODE = CLAIMS_CODE + [str(_PKG / "paper.py")]
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
                else "config/config.yaml")
 

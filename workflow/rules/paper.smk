@@ -11,7 +11,7 @@ rule claims:
         claims=claims_file,
         datasets=ALL_TARGETS["datasets"],
         sims=claim_sims,
-        code=PAPER_CODE,
+        code=CLAIMS_CODE,
     output:
         csv="results/claims.csv",
         nc="results/claims.nc",
