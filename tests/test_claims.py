@@ -86,6 +86,23 @@ def test_relative_tolerance_and_paper_value_from_a_dataset():
         claims.evaluate_one(c, ev)
 
 
+@pytest.mark.parametrize("change, message", [
+    ({"test": {"method": "measure", "name": "no_such"}}, "test.name = 'no_such' is not a measure"),
+    ({"test": {"method": "derivation", "name": "no_such"}}, "is not a derivation"),
+    ({"test": {"method": "guess"}}, "test.method = 'guess'"),
+    ({"paper": "about ten"}, "a tolerance needs a numeric paper value"),
+    ({"tolerance": {"rel": -1}}, "tolerance = {'rel': -1}"),
+    ({"colour": "red"}, "unknown keys \\['colour'\\]"),
+])
+def test_a_malformed_claim_is_refused_when_the_file_is_read(tmp_path, change, message):
+    import yaml
+
+    path = tmp_path / "claims.yaml"
+    path.write_text(yaml.safe_dump({"claims": [{**_claim(), **change}]}))
+    with pytest.raises(claims.ClaimError, match=message):
+        claims.load(path)
+
+
 def test_missing_evidence_fails_instead_of_deciding():
     with pytest.raises(claims.ClaimError, match="figure 'f'"):
         claims.evaluate_one(_claim(), claims.Evidence({}))

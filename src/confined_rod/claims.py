@@ -23,7 +23,7 @@ from .errors import ConfigError
 from .io import read_yaml
 
 VERDICTS = ("reproduced", "reproduced under reading", "refuted", "not testable")
-METHODS = ("derivation", "value", "range", "measure", "not_testable")
+METHODS = ("derivation", "value", "measure", "not_testable")
 KEYS = {"id", "where", "claim", "paper", "paper_from", "test", "tolerance", "reading", "why", "format"}
 
 
@@ -52,7 +52,6 @@ class Evidence:
     """The datasets (by figure) and scene simulations (by 'figure/scene') a build has."""
     datasets: Mapping[str, xr.Dataset]
     sims: Mapping[str, xr.Dataset] = field(default_factory=dict)
-    used: list[str] = field(default_factory=list)
 
     def dataset(self, figure: str, claim: str) -> xr.Dataset:
         if figure not in self.datasets:
@@ -75,6 +74,12 @@ class Evidence:
 
 def _by_length(sims, figure, names):
     return sorted(names, key=lambda n: float(sims[f"{figure}/{n}"].attrs.get("L", 0.0)))
+
+
+def _derivations():
+    from .derivations import DERIVATIONS
+
+    return DERIVATIONS
 
 
 # -- reading claims.yaml -----------------------------------------------------------------------
@@ -103,6 +108,16 @@ def load(path: str | Path) -> list[dict[str, Any]]:
             raise ClaimError(f"{where} ({c['id']!r}): needs 'paper' or 'paper_from'")
         if method == "value" and "tolerance" not in c:
             raise ClaimError(f"{where} ({c['id']!r}): a value comparison needs 'tolerance' (rel or abs)")
+        if method == "derivation" and c["test"].get("name") not in _derivations():
+            raise ClaimError(f"{where} ({c['id']!r}): test.name = {c['test'].get('name')!r} is not a derivation of "
+                             f"confined_rod.derivations ({', '.join(_derivations())})")
+        if method == "measure" and c["test"].get("name") not in MEASURES:
+            raise ClaimError(f"{where} ({c['id']!r}): test.name = {c['test'].get('name')!r} is not a measure of "
+                             f"confined_rod.claims.MEASURES ({', '.join(MEASURES)})")
+        paper = c.get("paper")
+        numeric = "paper_from" in c or (isinstance(paper, (int, float)) and not isinstance(paper, bool))
+        if "tolerance" in c and not numeric:
+            raise ClaimError(f"{where} ({c['id']!r}): a tolerance needs a numeric paper value, got {c.get('paper')!r}")
         tol = c.get("tolerance")
         if tol is not None and (not isinstance(tol, dict) or set(tol) - {"rel", "abs"} or len(tol) != 1
                                 or not float(next(iter(tol.values()))) > 0):
@@ -540,7 +555,7 @@ def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
     method = test["method"]
     reading = str(c.get("reading", ""))
     tol = c.get("tolerance")
-    paper_value = None
+    paper_value, paper_src = None, ""
     if "paper_from" in c:
         paper_value, paper_src = pick(ev, c["paper_from"], cid)
         paper_text = fmt(paper_value, c.get("format"))
@@ -553,30 +568,21 @@ def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
         return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, "-", None, "", "not testable",
                        "-", reading, str(test.get("reason", "")))
     if method == "derivation":
-        if test.get("name") not in derivations.DERIVATIONS:
-            raise ClaimError(f"claim {cid!r}: no derivation {test.get('name')!r} in confined_rod.derivations")
         d = derivations.DERIVATIONS[test["name"]]()
         ours, holds, evidence, note = d.ours, d.agrees, f"confined_rod.derivations.{test['name']}", d.detail
     else:
         if method == "value":
             ours_value, evidence = pick(ev, test, cid)
             holds = True
-        elif method in ("measure", "range"):
-            name = test.get("name")
-            if method == "range":
-                ours_value, evidence = pick(ev, test, cid)
-                holds = float(test["lo"]) <= ours_value <= float(test["hi"])
-            elif name not in MEASURES:
-                raise ClaimError(f"claim {cid!r}: no measure {name!r} in confined_rod.claims.MEASURES")
-            else:
-                ours_value, holds, evidence, note = MEASURES[name](ev, test, cid)
+        else:
+            ours_value, holds, evidence, note = MEASURES[test["name"]](ev, test, cid)
         if not math.isfinite(ours_value):
             raise ClaimError(f"claim {cid!r}: the measured value is not finite ({evidence})")
         ours = fmt(ours_value, c.get("format"))
         if tol:
-            if paper_value is None:
-                raise ClaimError(f"claim {cid!r}: a tolerance needs a numeric paper value, got {paper_text!r}")
             holds = holds and _within(ours_value, paper_value, tol)
+    if paper_src:
+        evidence += f"; paper value from {paper_src}"
     verdict = ("reproduced under reading" if reading else "reproduced") if holds else "refuted"
     return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, ours, ours_value, _tolerance_text(tol),
                    verdict, evidence, reading, note)
