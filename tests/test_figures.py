@@ -34,7 +34,8 @@ def test_every_kind_module_has_the_interface():
 def test_scene_parameters_are_declared_once_and_agree_with_scene():
     fields = set(Scene.field_names()) - {"name"}
     assert [q.name for q in SCENE_PARAMETERS] == [k for k in Scene.field_names() if k != "name"]
-    assert set(scene_schema()["properties"]) == fields
+    # plus the one config-only entry: seeds (an ensemble of scenes, expanded by the pipeline)
+    assert set(scene_schema()["properties"]) == fields | {"seeds"}
     for q in SCENE_PARAMETERS:  # the same object serves the dataset attributes and the figure symbols
         assert QUANTITIES[q.name] is q
         assert q.long_name and q.units  # every parameter is described and has a unit

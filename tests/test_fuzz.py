@@ -372,6 +372,7 @@ def test_costly_scenes_are_named_at_start_up():
     config = copy.deepcopy(CI)
     config["figures"]["fig6_FonL"]["scenes"]["L10"] = {"L": 320, "solver": "explicit", "l0": 0.5}
     costly = pipeline.costly_scenes(config, limits.DEFAULT_BUDGET_S)
-    assert [(f, s) for f, s, _ in costly] == [("fig6_FonL", "L10")]
+    # each member of the scene's seed ensemble (seeds: 3 in the CI config) is named
+    assert [(f, s) for f, s, _ in costly] == [("fig6_FonL", f"L10-s{i}") for i in range(3)]
     # explicit, L/R = 320, l0 = 0.5 R: 7 min at L/R = 80, growing as L^2.5 -> about 3.7 h
     assert 2 * 3600 < costly[0][2] < 6 * 3600

@@ -36,7 +36,8 @@ def test_shipped_configs_are_valid(path):
 
 def test_schema_knows_exactly_the_scene_fields():
     fields = set(Scene.field_names()) - {"name"}
-    assert set(SCHEMA["$defs"]["scene"]["properties"]) == fields
+    # plus seeds: a seed ensemble, expanded into one scene per seed by the pipeline
+    assert set(SCHEMA["$defs"]["scene"]["properties"]) == fields | {"seeds"}
 
 
 def test_schema_rejects_unknown_keys_and_bad_types():
@@ -55,7 +56,7 @@ def test_validate_names_the_entry_and_the_value():
     config = load(CONFIGS[1])
     bad = copy.deepcopy(config)
     bad["figures"]["fig6_FonL"]["scenes"]["L20"]["L"] = 0.5  # shorter than l0 = 1
-    with pytest.raises(pipeline.ConfigError, match=r"figures\.fig6_FonL\.scenes\.L20: .*'l0'.*L = 0\.5"):
+    with pytest.raises(pipeline.ConfigError, match=r"figures\.fig6_FonL\.scenes\.L20-s0: .*'l0'.*L = 0\.5"):
         pipeline.validate(bad)
     bad = copy.deepcopy(config)
     bad["figures"]["fig4_Fonl"]["scenes"]["b"]["seed"] = 7  # panels may differ only in k_fr
@@ -68,22 +69,22 @@ def test_validate_names_the_entry_and_the_value():
 
 
 def test_shared_scenes_are_simulated_once():
-    config = load(CONFIGS[0])
-    # Fig 4(c) (L 320, load 0.25, k_fr 0.8) is the L = 320 point of Fig 6
-    assert pipeline.canonical_scene(config, "fig4_Fonl", "c") == ("fig6_FonL", "L320")
+    config = pipeline.expand(load(CONFIGS[0]))
+    # Fig 4(c) (L 320, load 0.25, k_fr 0.8, seed 0) is the seed-0 member of the L = 320 point of Fig 6
+    assert pipeline.canonical_scene(config, "fig4_Fonl", "c") == ("fig6_FonL", "L320-s0")
     assert pipeline.canonical_scene(config, "fig4_Fonl", "a") == ("fig4_Fonl", "a")
     # every convergence ladder's publication rung is a scene simulated anyway
-    assert pipeline.canonical_scene(config, "conv_l0", "l0_05") == ("fig6_FonL", "L80")
-    assert pipeline.canonical_scene(config, "conv_tol", "tol5") == ("fig6_FonL", "L80")
+    assert pipeline.canonical_scene(config, "conv_l0", "l0_05") == ("fig6_FonL", "L80-s0")
+    assert pipeline.canonical_scene(config, "conv_tol", "tol5") == ("fig6_FonL", "L80-s0")
     assert pipeline.canonical_scene(config, "conv_k_ph_frictionless", "k10000") == ("conv_l0_frictionless", "l0_05")
     sims = pipeline.expected_outputs(config)["sims"]
     # Fig 5 shows the rod of Fig 4(c): the same simulation, not a new run
-    assert pipeline.canonical_scene(config, "fig5_pitch", "c") == ("fig6_FonL", "L320")
-    # 6 + 2 paper scenes of Figs 6 and 4, 3 + 1 + 1 as-printed and Fig 7 scenes, 2 of Fig 1,
+    assert pipeline.canonical_scene(config, "fig5_pitch", "c") == ("fig6_FonL", "L320-s0")
+    # 6 x 5 seeds + 2 paper scenes of Figs 6 and 4, 3 + 1 + 1 as-printed and Fig 7 scenes, 2 of Fig 1,
     # 18 new ladder rungs (of 23), 10 time-vs-error runs of their own, 9 load-path jobs of Fig 3 and 10
     # transitions of Fig 2, 14 runs of Fig 8 (own files: the event, 4 fold thresholds, 4 escape
-    # thresholds and 5 of the span scan)
-    assert len(sims) == len(set(sims)) == 8 + 5 + 2 + 18 + 10 + 9 + 10 + 14
+    # thresholds and 5 of the span scan), 57 stability-map probes
+    assert len(sims) == len(set(sims)) == 32 + 5 + 2 + 18 + 10 + 9 + 10 + 14 + 57
     assert sum(p.startswith("results/paths/fig3_bifurcation/") for p in sims) == 9
 
 

@@ -28,6 +28,13 @@ def scene_schema() -> dict[str, Any]:
     for q in SCENE_PARAMETERS:
         unit = pretty_unit(q.units)
         props[q.name] = {**q.schema, "description": q.long_name + (f" [{unit}]" if unit else "")}
+    props["seeds"] = {
+        "description": ("seed ensemble: N runs with seeds seed, ..., seed + N - 1, or the listed seeds; one "
+                        "simulation per seed (scene '<scene>-s<seed>'), statistics in the figure's dataset"),
+        "oneOf": [{"type": "integer", "minimum": 1, "maximum": 1000},
+                  {"type": "array", "items": {"type": "integer", "minimum": 0}, "minItems": 1, "maxItems": 1000,
+                   "uniqueItems": True}],
+    }
     return {"type": "object", "additionalProperties": False, "properties": props}
 
 

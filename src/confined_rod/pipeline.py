@@ -136,6 +136,48 @@ def expand_sweeps(config: dict[str, Any]) -> None:
                 expand(fig)
 
 
+def expand_ensembles(config: dict[str, Any]) -> None:
+    """Turn every scene that asks for ``seeds`` (in its own entry, its figure's defaults or
+    scene_defaults) into one scene per seed, ``<scene>-s<seed>``, in place; idempotent.
+    Only figure kinds with ``ENSEMBLES = True`` accept them (ConfigError otherwise)."""
+    from . import ensembles
+
+    top = config.get("scene_defaults") or {}
+    for f in figures(config):
+        fig = config["figures"][f]
+        defaults = fig.get("defaults") or {}
+        out: dict[str, Any] = {}
+        for name, entry in (fig.get("scenes") or {}).items():
+            entry = dict(entry or {})
+            spec = entry.pop("seeds", defaults.get("seeds", top.get("seeds")))
+            if spec is None:
+                out[name] = entry
+                continue
+            if not getattr(kinds.get(fig["kind"]), "ENSEMBLES", False):
+                raise ConfigError(f"figures.{f}.scenes.{name}.seeds: kind {fig['kind']!r} does not support seed "
+                                  "ensembles yet (kinds that do: "
+                                  + ", ".join(k for k in kinds.kinds() if getattr(kinds.get(k), "ENSEMBLES", False))
+                                  + ")")
+            first = entry.get("seed", defaults.get("seed", top.get("seed", 0)))
+            try:
+                seeds = ensembles.seeds_of(spec, int(first))
+            except ValueError as e:
+                raise ConfigError(f"figures.{f}.scenes.{name}.seeds: {e}") from None
+            for seed in seeds:
+                out[f"{name}-s{seed}"] = {**entry, "seed": seed}
+        if fig.get("scenes") is not None:
+            fig["scenes"] = out
+        defaults.pop("seeds", None)
+    top.pop("seeds", None)
+
+
+def expand(config: dict[str, Any]) -> dict[str, Any]:
+    """Sweeps and seed ensembles turned into scenes, in place (idempotent); returns config."""
+    expand_sweeps(config)
+    expand_ensembles(config)
+    return config
+
+
 def check_path(figure: str) -> str:
     return str(RESULTS / "checks" / f"{figure}.txt")
 
@@ -159,7 +201,9 @@ def publication_value(config: dict[str, Any], figure: str) -> float | None:
 
 
 def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
-    """Every artifact a full run of this config produces, by kind."""
+    """Every artifact a full run of this config produces, by kind (sweeps and ensembles
+    expanded into scenes, in place)."""
+    expand(config)
     out: dict[str, list[str]] = {"sims": [], "datasets": [], "figures": [], "checks": []}
     for f in figures(config):
         out["sims"] += [p for p in figure_sims(config, f) if p not in out["sims"]]
@@ -247,6 +291,7 @@ def costly_scenes(config: dict[str, Any], budget_s: float) -> list[tuple[str, st
     """(figure, scene, estimated seconds) of every valid scene estimated above budget_s."""
     from .limits import estimated_wall_time
 
+    expand(config)
     out = []
     for f in figures(config):
         for s in scenes(config, f):
@@ -266,7 +311,7 @@ def check(config: dict[str, Any], files: list[str | Path] = (), schema_path: str
     for f in files:
         read_config(f)
     check_schema(config, schema_path)
-    expand_sweeps(config)
+    expand(config)
     validate(config)
     check_paper(config)
 
@@ -293,8 +338,17 @@ def check_paper(config: dict[str, Any], root: str | Path = ROOT) -> None:
 
 
 # -- validation, captions, build context (dispatched to the figure kind's module) -----------
+def _seeds_text(built: dict[str, Scene]) -> str:
+    seeds = sorted({sc.seed for sc in built.values()})
+    if len(seeds) == 1:
+        return f"seed {seeds[0]}"
+    runs = len(seeds) == seeds[-1] - seeds[0] + 1
+    return f"seeds {seeds[0]}-{seeds[-1]}" if runs else "seeds " + ", ".join(map(str, seeds))
+
+
 def validate(config: dict[str, Any]) -> None:
     """Build every scene and check the figure-kind rules; raise ConfigError naming the entry."""
+    expand(config)
     if not figures(config):
         raise ConfigError("config has no figures: nothing to build")
     for f in figures(config):
@@ -329,6 +383,7 @@ def context(config: dict[str, Any], figure: str) -> dict[str, Any]:
 def caption(config: dict[str, Any], figure: str) -> str:
     """Plain-text caption: what the figure shows and with which parameters (those common to
     all its scenes; the ones it varies are named in the body)."""
+    expand(config)
     fig = config["figures"][figure]
     module = kinds.get(fig["kind"])
     head = f"{fig.get('title', figure)} (paper Fig. {fig.get('paper_figure', 'none')})."
@@ -339,7 +394,7 @@ def caption(config: dict[str, Any], figure: str) -> str:
     sc = next(iter(built.values()))
     varied = set(kinds.varied(fig["kind"], fig))
     common = [f"R = {sc.R:g}", f"EI = {sc.EI:g}", f"load |F_z(0)| = {sc.load:g} EI/R^2",
-              f"friction cap {sc.friction_cap:g} EI/R^3", f"protocol '{sc.protocol}'", f"seed {sc.seed}",
+              f"friction cap {sc.friction_cap:g} EI/R^3", f"protocol '{sc.protocol}'", _seeds_text(built),
               f"perturbation {sc.perturbation:g} R"]
     numerics = [f"{k} = {getattr(sc, k):g}{u}" for k, u in (("l0", " R"), ("k_ph", " EI/R^2"), ("k_w", " EI/R^3"),
                                                               ("tol", ""))]

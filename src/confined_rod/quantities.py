@@ -221,6 +221,22 @@ _Q = SCENE_PARAMETERS + [
     Quantity("in_stretch", "", "link lies on the wall-contact stretch (first to last link touching the wall)", "1"),
     Quantity("L_z_straight", "L_z", "L_z of the straight rod lying diagonally across the pore, "
              "sqrt(L^2 - 4R^2)(1 - load/k_ph)", "R"),
+    # seed ensembles (confined_rod.ensembles)
+    Quantity("member", "", "member of a seed ensemble (index; has_member says which are filled)", "1"),
+    Quantity("has_member", "", "1 where the ensemble has this member (the values are 0 otherwise)", "1"),
+    Quantity("member_seed", r"\mathrm{seed}", "random seed of the ensemble member's perturbation", "1"),
+    Quantity("F_member", "|F_z(L)|", "force transmitted to the lower end by each ensemble member", "EI R-2"),
+    Quantity("member_class", "", "final state of each member: helix, planar or defects (helix with a reversal)",
+             "1"),
+    Quantity("n_seeds", "n", "members of the seed ensemble", "1"),
+    Quantity("F_mean", r"\langle|F_z(L)|\rangle", "ensemble mean of the transmitted force", "EI R-2"),
+    Quantity("F_std", r"\sigma", "ensemble standard deviation of the transmitted force (ddof = 1; 0 for one "
+             "member)", "EI R-2"),
+    Quantity("F_sem", r"\sigma/\sqrt{n}", "standard error of the ensemble mean of the transmitted force", "EI R-2"),
+    Quantity("F_min", r"\min|F_z(L)|", "smallest transmitted force in the ensemble", "EI R-2"),
+    Quantity("F_max", r"\max|F_z(L)|", "largest transmitted force in the ensemble", "EI R-2"),
+    Quantity("state_class_name", "", "final-state class: helix, planar, defects", "1"),
+    Quantity("n_class", "n", "members of the ensemble ending in each final-state class", "1"),
     # Fig 1: shapes
     Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),
     Quantity("detached_top", "s_h", "length of the detached upper end (loaded end to first wall contact)", "R"),

@@ -1,22 +1,27 @@
 """Kind ``transmitted_force`` (paper Fig 6): |F_z(L)| transmitted to the lower end against L.
 
-Scenes differ only in L (and pore_length); the dataset holds the transmitted force,
-L_z, contacts and winding per length, and the simple model with the corrected
-K = R F^2/(4EI) and with the paper's printed 2EI.
+Scenes differ only in L (and pore_length), and in the seed where a scene is a seed ensemble
+(``seeds:``; confined_rod.ensembles); the dataset holds the transmitted force, L_z, contacts
+and winding per length, and the simple model with the corrected K = R F^2/(4EI) and with
+the paper's printed 2EI. With ensembles it also holds every member's force, seed and final
+state, and per length the mean, standard deviation, standard error, min and max and the
+count of each final state; the per-length variables are then ensemble means (converged:
+all members; escaped: any).
 """
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
 
+from .. import ensembles, theory
 from .. import plotting as P
-from .. import theory
 from ..io import variable
 from ..measure import n_turns
 from ..quantities import label
 from ._common import need_scenes, per_scene, same_except, scene_coord
 
 OPTIONS: dict = {}
+ENSEMBLES = True
 
 
 def varied(fig_cfg) -> tuple[str, ...]:
@@ -24,21 +29,32 @@ def varied(fig_cfg) -> tuple[str, ...]:
 
 
 def validate(figure, fig_cfg, built) -> None:
-    same_except(figure, built, varied(fig_cfg), "a transmitted-force figure varies only L")
-    need_scenes(figure, built, 2, "a transmitted-force curve")
+    same_except(figure, built, varied(fig_cfg) + ("seed",), "a transmitted-force figure varies only L (and the seed)")
+    lengths = {(s.L, s.pore_length): s for s in built.values()}       # one per length (ensembles count once)
+    need_scenes(figure, lengths, 2, "a transmitted-force curve (of distinct lengths)")
 
 
 def caption(figure, fig_cfg, built) -> str:
     sc = next(iter(built.values()))
-    Ls = ", ".join(f"{s.L:g}" for s in built.values())
+    Ls = ", ".join(f"{L:g}" for L in sorted({s.L for s in built.values()}))
+    n = len(built) / len({(s.L, s.pore_length) for s in built.values()})
+    points = (f"symbols: the mean over a seed ensemble of {n:g} runs per length, error bars one standard deviation, "
+              "grey dots the single seeds" if n > 1 else "symbols: simulations")
     return (f"Force |F_z(L)| transmitted to the lower piston against the rod length L/R = {Ls}, "
-            f"k_fr = {sc.k_fr:g}; symbols: simulations (open = not converged), lines: the simple model "
+            f"k_fr = {sc.k_fr:g}; {points} (open = not converged), lines: the simple model "
             f"|F_z(L)| = (1/|F_z(0)| + k_fr R L/(4EI))^-1 (dashed, corrected) and the paper's form with "
             f"2EI (dotted); grey line: eye guide.")
 
 
 def build(fig_cfg, sims, context=None) -> xr.Dataset:
-    names = sorted(sims, key=lambda n: float(sims[n].attrs["L"]))
+    ordered = sorted(sims, key=lambda n: float(sims[n].attrs["L"]))
+    groups = ensembles.group(ordered, {n: sims[n].attrs for n in ordered}, ("L", "pore_length"))
+    if any(len(g) > 1 for g in groups):
+        return _build_ensemble(groups, sims)
+    return _build(ordered, sims)
+
+
+def _build(names, sims) -> xr.Dataset:
     L = np.array([float(sims[n].attrs["L"]) for n in names])
     first = sims[names[0]]
     load, k_fr, R, EI = (float(first.attrs[k]) for k in ("load", "k_fr", "R", "EI"))
@@ -65,6 +81,59 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     return xr.Dataset(data, coords=coords)
 
 
+def _build_ensemble(groups, sims) -> xr.Dataset:
+    """One point per length from its members: the per-length variables of _build as ensemble
+    means, plus every member and the statistics."""
+    first_members = [g[0] for g in groups]
+    ds = _build(first_members, sims)
+    n_max = max(len(g) for g in groups)
+
+    def members(fn, fill=0.0):
+        out = np.full((len(groups), n_max), fill, dtype=float)
+        for i, g in enumerate(groups):
+            out[i, :len(g)] = [fn(sims[n]) for n in g]
+        return out
+
+    has = np.zeros((len(groups), n_max), dtype=np.int8)
+    for i, g in enumerate(groups):
+        has[i, :len(g)] = 1
+    F = members(lambda d: float(d["F_transmitted"]))
+    cls = members(lambda d: float(ensembles.CLASSES.index(ensembles.final_class(d))))
+    st = [ensembles.stats(F[i, has[i] == 1]) for i in range(len(groups))]
+
+    def mean_of(fn):
+        vals = members(fn)
+        return (vals * has).sum(axis=1) / has.sum(axis=1)
+
+    ds["F_transmitted"] = variable(("L",), [s.mean for s in st], "F_transmitted")
+    ds["L_z"] = variable(("L",), mean_of(lambda d: float(d["L_z"])), "L_z")
+    ds["n_contact"] = variable(("L",), mean_of(lambda d: float(d["contact"].sum())), "n_contact")
+    ds["n_turns"] = variable(("L",), mean_of(n_turns), "n_turns")
+    ds["converged"] = variable(("L",), np.int8(members(lambda d: float(d["converged"]), 1.0).min(axis=1)), "converged")
+    ds["escaped"] = variable(("L",), np.int8(members(lambda d: float(d["escaped"])).max(axis=1)), "escaped")
+    ds["residual_force"] = variable(("L",), members(lambda d: float(d["residual_force"])).max(axis=1),
+                                    "residual_force")
+    ds["wall_time"] = variable(("L",), members(lambda d: float(d["wall_time"])).sum(axis=1), "wall_time")
+    ds["F_member"] = variable(("L", "member"), F, "F_member")
+    ds["member_seed"] = variable(("L", "member"), members(lambda d: float(d.attrs["seed"])).astype(np.int64),
+                                 "member_seed")
+    ds["has_member"] = variable(("L", "member"), has, "has_member")
+    ds["member_class"] = variable(("L", "member"), cls.astype(np.int8), "member_class")
+    ds["member_class"].attrs.update({"flag_values": np.arange(len(ensembles.CLASSES), dtype=np.int8),
+                                     "flag_meanings": " ".join(ensembles.CLASSES)})
+    for name, field in (("n_seeds", "n"), ("F_mean", "mean"), ("F_std", "std"), ("F_sem", "sem"),
+                        ("F_min", "min"), ("F_max", "max")):
+        ds[name] = variable(("L",), [getattr(s, field) for s in st], name)
+    ds["n_class"] = variable(("L", "state_class_name"),
+                             [[int(((cls[i] == k) & (has[i] == 1)).sum()) for k in range(len(ensembles.CLASSES))]
+                              for i in range(len(groups))], "n_class")
+    ds = ds.assign_coords(member=variable(("member",), np.arange(n_max), "member"),
+                          state_class_name=variable(("state_class_name",), np.array(ensembles.CLASSES, dtype=object),
+                                                    "state_class_name"))
+    ds.attrs["ensemble"] = "mean, standard deviation (ddof 1), standard error, min, max over the seeds of each length"
+    return ds
+
+
 def plot(ds: xr.Dataset):
     fig, ax = P.plt.subplots(figsize=(4.6, 3.4), label=ds.attrs["title"])
     L = ds["L"].values
@@ -73,7 +142,16 @@ def plot(ds: xr.Dataset):
     ax.plot(ds["L_model"], ds["F_simple"], **P.MODEL, label=r"simple model, $K = RF^2/(4EI)$")
     ax.plot(ds["L_model"], ds["F_simple_paper"], **P.PAPER, label=r"paper's Eq. (Fz-simple), $K = RF^2/(2EI)$")
     ax.plot(L, F, "-", color="0.6", lw=0.7, label="eye guide")
-    ax.plot(L[ok], F[ok], "o", ms=5, **P.SIM, label="simulation")
+    if "F_member" in ds:
+        has = ds["has_member"].values == 1
+        Lm = np.broadcast_to(L[:, None], has.shape)
+        ax.plot(Lm[has], ds["F_member"].values[has], ".", ms=3, color="0.55", label="single seeds")
+        n = ds["n_seeds"].values
+        ax.errorbar(L[ok], F[ok], yerr=ds["F_std"].values[ok], fmt="none", ecolor="black", elinewidth=0.9, capsize=2.5)
+        label_sim = f"mean $\\pm$ s.d. of {int(n.min())}" + (f"-{int(n.max())}" if n.max() > n.min() else "") + " seeds"
+    else:
+        label_sim = "simulation"
+    ax.plot(L[ok], F[ok], "o", ms=5, **P.SIM, label=label_sim)
     if (~ok).any():
         ax.plot(L[~ok], F[~ok], "o", ms=5, mfc="white", mec="black", label="simulation, not converged")
     ax.axhline(float(ds.attrs["load"]), color="0.7", lw=0.8)

@@ -1,0 +1,103 @@
+"""Seed ensembles: statistics on constructed data, the expansion of `seeds:` into one cached
+scene per seed, and a single-seed scene behaving exactly as before."""
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from confined_rod import ensembles, pipeline
+from confined_rod.errors import ConfigError
+from confined_rod.figures import transmitted_force
+
+
+def test_stats_of_a_constructed_ensemble():
+    s = ensembles.stats([1.0, 2.0, 3.0, 4.0])
+    assert (s.n, s.mean, s.min, s.max) == (4, 2.5, 1.0, 4.0)
+    assert s.std == pytest.approx(np.sqrt(5.0 / 3.0), rel=1e-14)          # sum of squares 5, n - 1 = 3
+    assert s.sem == pytest.approx(s.std / 2.0, rel=1e-14)
+    one = ensembles.stats([0.0868])
+    assert (one.mean, one.std, one.sem) == (0.0868, 0.0, 0.0)
+    with pytest.raises(ValueError, match="finite"):
+        ensembles.stats([1.0, np.nan])
+    with pytest.raises(ValueError, match="at least one"):
+        ensembles.stats([])
+
+
+@pytest.mark.parametrize("spec, first, seeds", [(3, 0, [0, 1, 2]), (2, 5, [5, 6]), ([4, 1, 9], 0, [4, 1, 9])])
+def test_seeds_of_a_count_or_a_list(spec, first, seeds):
+    assert ensembles.seeds_of(spec, first) == seeds
+
+
+@pytest.mark.parametrize("spec", [0, [], [1, 1], [-1], True, "3", [1.5]])
+def test_bad_seeds_are_refused(spec):
+    with pytest.raises(ValueError, match="seeds"):
+        ensembles.seeds_of(spec, 0)
+
+
+def _config():
+    return {"figures": {
+        "fig6": {"kind": "transmitted_force", "defaults": {"load": 0.25, "k_fr": 0.8, "l0": 1.0, "seeds": 3},
+                 "scenes": {"L10": {"L": 10}, "L20": {"L": 20, "seeds": [7, 8]}, "L30": {"L": 30, "seed": 4}}},
+        "fig5": {"kind": "pitch_profile", "scenes": {"c": {"L": 20, "load": 0.25, "k_fr": 0.8, "l0": 1.0}}}}}
+
+
+def test_seeds_become_one_scene_per_seed_and_expansion_is_idempotent():
+    config = pipeline.expand(_config())
+    assert pipeline.scenes(config, "fig6") == ["L10-s0", "L10-s1", "L10-s2", "L20-s7", "L20-s8",
+                                               "L30-s4", "L30-s5", "L30-s6"]
+    assert pipeline.scene_params(config, "fig6", "L20-s8")["seed"] == 8
+    assert "seeds" not in config["figures"]["fig6"]["defaults"]
+    again = pipeline.expand(copy.deepcopy(config))
+    assert again == config
+    # every member is its own cached simulation, and the checks accept the expanded figure
+    assert pipeline.figure_sims(config, "fig6")[3] == "results/sims/fig6/L20-s7.nc"
+    pipeline.validate(config)
+    # a scene without seeds is left exactly as it was
+    assert pipeline.scenes(config, "fig5") == ["c"]
+
+
+def test_a_kind_without_ensembles_refuses_seeds():
+    config = _config()
+    config["figures"]["fig5"]["scenes"]["c"]["seeds"] = 4
+    with pytest.raises(ConfigError, match=r"figures.fig5.scenes.c.seeds: kind 'pitch_profile' does not support"):
+        pipeline.expand(config)
+
+
+def _sim(L, seed, F, turns=2.0):
+    n = 8
+    phi = np.linspace(0.0, 2 * np.pi * turns, n)
+    return xr.Dataset(
+        {"F_transmitted": F, "L_z": 0.9 * L, "contact": ("link", np.ones(n, dtype=np.int8)), "phi": ("helix", phi),
+         "dphi_ds": ("helix", np.full(n, 0.3)), "converged": np.int8(1), "escaped": np.int8(0),
+         "residual_force": 1e-6, "wall_time": 1.0},
+        coords={"s_helix": ("helix", np.linspace(0, L, n))},
+        attrs={"L": L, "pore_length": L, "seed": seed, "load": 0.25, "k_fr": 0.8, "R": 1.0, "EI": 1.0})
+
+
+def test_ensemble_dataset_holds_members_and_statistics():
+    sims = {"L20-s0": _sim(20.0, 0, 0.10), "L20-s1": _sim(20.0, 1, 0.12), "L20-s2": _sim(20.0, 2, 0.11, turns=0.5),
+            "L40-s0": _sim(40.0, 0, 0.08), "L40-s1": _sim(40.0, 1, 0.09)}
+    ds = transmitted_force.build({}, sims)
+    assert ds.sizes["member"] == 3 and ds["has_member"].values.tolist() == [[1, 1, 1], [1, 1, 0]]
+    np.testing.assert_allclose(ds["F_mean"].values, [0.11, 0.085], rtol=1e-14)
+    np.testing.assert_allclose(ds["F_std"].values, [0.01, np.std([0.08, 0.09], ddof=1)], rtol=1e-12)
+    np.testing.assert_allclose(ds["F_sem"].values, ds["F_std"].values / np.sqrt([3, 2]), rtol=1e-14)
+    assert ds["F_transmitted"].values.tolist() == ds["F_mean"].values.tolist()
+    assert ds["n_seeds"].values.tolist() == [3, 2]
+    # final states: the half-turn member is planar, the others helices
+    assert ds["n_class"].sel(state_class_name="planar").values.tolist() == [1, 0]
+    assert ds["n_class"].sel(state_class_name="helix").values.tolist() == [2, 2]
+    assert ds["member_seed"].values[0].tolist() == [0, 1, 2]
+    assert not any(np.issubdtype(v.dtype, np.floating) and not np.all(np.isfinite(v.values))
+                   for v in ds.data_vars.values())
+
+
+def test_a_single_seed_per_length_builds_the_dataset_as_before():
+    sims = {"L20": _sim(20.0, 0, 0.10), "L40": _sim(40.0, 0, 0.08)}
+    ds = transmitted_force.build({}, sims)
+    assert "member" not in ds.dims and "F_mean" not in ds
+    xr.testing.assert_identical(ds, transmitted_force._build(["L20", "L40"], sims))
+    assert ds["F_transmitted"].values.tolist() == [0.10, 0.08]
