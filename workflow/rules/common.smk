@@ -42,7 +42,7 @@ _PKG = Path(workflow.basedir) / "src" / "confined_rod"
 _FIGURES = _PKG / "figures"
 POSTPROCESS_SHARED = [
     str(_PKG / f)
-    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py")
+    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py")
 ] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
 STYLE_CODE = [str(_PKG / "plotting.py")]
 _NOT_SIMULATION = set(POSTPROCESS_SHARED + STYLE_CODE) | {
