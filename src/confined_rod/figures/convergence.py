@@ -30,6 +30,7 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
+from .. import ensembles
 from .. import plotting as P
 from ..errors import ConfigError
 from ..io import variable
@@ -50,6 +51,10 @@ OPTIONS = {
 }
 
 
+ENSEMBLES = True
+Z_AGREE = 2.0   # rungs agree within the tolerance plus this many combined standard errors
+
+
 class ConvergenceError(RuntimeError):
     """The publication settings are further from the extrapolated limit than the tolerance."""
 
@@ -64,7 +69,7 @@ def validate(figure, fig_cfg, built, publication_value=None) -> None:
         raise ConfigError(f"figures.{figure}: a convergence figure needs a 'tolerance' (relative, e.g. 0.01)")
     if p not in REFINEMENT:
         raise ConfigError(f"figures.{figure}.parameter: {p!r} is not one of {', '.join(REFINEMENT)}")
-    same_except(figure, built, (p,), f"the rungs of a convergence ladder differ only in {p}")
+    same_except(figure, built, (p, "seed"), f"the rungs of a convergence ladder differ only in {p} (and the seed)")
     vals = sorted({getattr(s, p) for s in built.values()})
     if len(vals) < 3:
         raise ConfigError(f"figures.{figure}.scenes: a convergence ladder needs at least 3 values of {p}")
@@ -77,7 +82,16 @@ def validate(figure, fig_cfg, built, publication_value=None) -> None:
 def caption(figure, fig_cfg, built, publication_value=None) -> str:
     p = fig_cfg["parameter"]
     sc = next(iter(built.values()))
-    vals = ", ".join(f"{getattr(s, p):g}" for s in built.values())
+    values = sorted({getattr(s, p) for s in built.values()}, reverse=True)
+    vals = ", ".join(f"{v:g}" for v in values)
+    n = len(built) / len(values)
+    if n > 1:
+        return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}), each rung a seed ensemble of "
+                f"{n:g} runs: ensemble means of the transmitted force, L_z and bulk pitch against the refinement "
+                f"variable, error bars two standard errors, grey dots the single seeds; the band of "
+                f"+-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean; the publication value "
+                f"{p} = {publication_value:g} passes when it agrees with every finer rung within the tolerance "
+                "plus two combined standard errors.")
     return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}): transmitted force, L_z and "
             f"bulk pitch against the refinement variable, with the Richardson limit from the three finest "
             f"rungs and the band of +-{100 * float(fig_cfg['tolerance']):g} % about it that the publication "
@@ -109,8 +123,11 @@ def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[flo
 
 
 def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
-    publication_value = float((context or {})["publication_value"])
     param = fig_cfg["parameter"]
+    groups = ensembles.group(list(sims), {n: sims[n].attrs for n in sims}, (param,))
+    if any(len(g) > 1 for g in groups):
+        return _build_ensemble(fig_cfg, sims, groups, float((context or {})["publication_value"]))
+    publication_value = float((context or {})["publication_value"])
     hname, hfun = REFINEMENT[param]
     items = sorted(sims.items(), key=lambda kv: -hfun(float(kv[1].attrs[param])))
     values = np.array([float(d.attrs[param]) for _, d in items])
@@ -171,6 +188,114 @@ def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=No
     return ds
 
 
+def agree(m1: float, e1: float, m2: float, e2: float, tol: float) -> bool:
+    """Two ensemble means agree: |m1 - m2| <= tol |m2| + Z_AGREE sqrt(e1^2 + e2^2) (m2 the finer rung)."""
+    return abs(m1 - m2) <= tol * abs(m2) + Z_AGREE * math.hypot(e1, e2)
+
+
+def statistical_verdict(values: np.ndarray, means: np.ndarray, sems: np.ndarray, ipub: int,
+                        tol: float) -> tuple[str, float, str]:
+    """(status, distance, note) of one observable over rungs ordered coarse to fine: pass if
+    the publication rung agrees with every finer one; inconclusive if the finer rungs
+    disagree among themselves; fail otherwise. The distance is the largest relative
+    difference of the publication mean from a finer rung's mean."""
+    finer = list(range(ipub + 1, len(values)))
+    if not finer:
+        return "inconclusive", 0.0, "no rung finer than the publication value"
+    for a in finer:
+        for b in finer:
+            if a < b and not agree(means[a], sems[a], means[b], sems[b], tol):
+                return ("inconclusive", 0.0,
+                        f"the finer ensembles disagree beyond their errors: {values[a]:g}: {means[a]:.5g} +- "
+                        f"{sems[a]:.2g}, {values[b]:g}: {means[b]:.5g} +- {sems[b]:.2g} (difference "
+                        f"{abs(means[a] - means[b]) / math.hypot(sems[a], sems[b]):.1f} combined s.e.)")
+    worst = max(finer, key=lambda j: abs(means[ipub] - means[j]) / abs(means[j]))
+    dist = abs(means[ipub] - means[worst]) / abs(means[worst])
+    z = abs(means[ipub] - means[worst]) / max(math.hypot(sems[ipub], sems[worst]), 1e-300)
+    how = f"largest difference {100 * dist:.2g} % from {values[worst]:g} ({z:.1f} combined s.e.)"
+    if all(agree(means[ipub], sems[ipub], means[j], sems[j], tol) for j in finer):
+        return "pass", dist, "ok, " + how
+    return "fail", dist, "the publication rung differs from the finer rungs beyond tolerance and errors: " + how
+
+
+def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
+    """The ladder with a seed ensemble per rung: members, means, standard errors and the
+    statistical verdict (statistical_verdict)."""
+    param = fig_cfg["parameter"]
+    hname, hfun = REFINEMENT[param]
+    groups = sorted(groups, key=lambda g: -hfun(float(sims[g[0]].attrs[param])))
+    values = np.array([float(sims[g[0]].attrs[param]) for g in groups])
+    h = np.array([hfun(v) for v in values])
+    if not np.any(np.isclose(values, publication_value, rtol=1e-9)):
+        raise ValueError(f"convergence ladder over {param} does not contain the publication value {publication_value}")
+    ipub = int(np.flatnonzero(np.isclose(values, publication_value, rtol=1e-9))[0])
+    tol = float(fig_cfg["tolerance"])
+    n_max = max(len(g) for g in groups)
+    has = np.zeros((len(groups), n_max), dtype=np.int8)
+    for i, g in enumerate(groups):
+        has[i, :len(g)] = 1
+
+    def members(fn):
+        out = np.zeros((len(groups), n_max))
+        for i, g in enumerate(groups):
+            out[i, :len(g)] = [fn(sims[n]) for n in g]
+        return out
+
+    turns = members(n_turns)
+    helical = (turns >= 1.0) | (has == 0)
+    obs = {"F_transmitted": members(lambda d: float(d["F_transmitted"])), "L_z": members(lambda d: float(d["L_z"]))}
+    if helical.all():
+        obs["pitch"] = members(bulk_pitch)
+    data, dist, notes, statuses = {}, [], [], []
+    for k, v in obs.items():
+        st = [ensembles.stats(v[i, has[i] == 1]) for i in range(len(groups))]
+        means, sems = np.array([s.mean for s in st]), np.array([s.sem for s in st])
+        data[k] = variable(("rung",), means, k)
+        data[f"{k}_sem"] = xr.Variable(("rung",), sems, attrs={**attrs(k), "long_name": "standard error of the "
+                                                                 "ensemble mean of " + attrs(k)["long_name"]})
+        data[f"{k}_member"] = xr.Variable(("rung", "member"), v, attrs={**attrs(k), "long_name": attrs(k)["long_name"]
+                                                                         + " of each ensemble member"})
+        data[f"{k}_limit"] = xr.Variable((), means[-1], attrs={**attrs(k), "long_name": "ensemble mean at the finest "
+                                                                "rung of " + attrs(k)["long_name"]})
+        status, d, note = statistical_verdict(values, means, sems, ipub, tol)
+        statuses.append(status)
+        dist.append(d)
+        notes.append(note)
+    checked = list(obs)
+    bad = [f"{k}: {n}" for k, s, n in zip(checked, statuses, notes) if s == "inconclusive"]
+    if bad:
+        status = "inconclusive: " + "; ".join(bad)
+    elif "fail" in statuses:
+        status = "fail"
+    else:
+        status = "pass"
+    data["n_turns"] = variable(("rung",), (turns * has).sum(axis=1) / has.sum(axis=1), "n_turns")
+    data["n_turns_member"] = xr.Variable(("rung", "member"), turns, attrs={**attrs("n_turns"), "long_name":
+                                         attrs("n_turns")["long_name"] + " of each ensemble member"})
+    data["has_member"] = variable(("rung", "member"), has, "has_member")
+    data["n_seeds"] = variable(("rung",), has.sum(axis=1), "n_seeds")
+    data["converged"] = variable(("rung",), np.int8(members(lambda d: float(d["converged"])).min(axis=1, initial=1,
+                                                                                                   where=has == 1)),
+                                 "converged")
+    data["wall_time"] = variable(("rung",), members(lambda d: float(d["wall_time"])).sum(axis=1), "wall_time")
+    data["observed_order"] = variable(("observable",), np.zeros(len(checked)), "observed_order")
+    data["publication_distance"] = variable(("observable",), dist, "publication_distance")
+    coords = {"rung": xr.Variable(("rung",), np.array([g[0].rsplit("-s", 1)[0] for g in groups], dtype=object),
+                                  attrs=attrs("scene")),
+              "value": xr.Variable(("rung",), values, attrs={**attrs("value"), "long_name": f"value of {param}",
+                                                              "parameter": param}),
+              "h": xr.Variable(("rung",), h, attrs={**attrs("h"), "definition": hname}),
+              "member": variable(("member",), np.arange(n_max), "member"),
+              "observable": xr.Variable(("observable",), np.array(checked, dtype=object), attrs=attrs("observable"))}
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update({"parameter": param, "refinement": hname, "publication_value": publication_value,
+                     "tolerance": tol, "status": status, "worst_distance": max(dist),
+                     "notes": "; ".join(f"{k}: {n}" for k, n in zip(checked, notes)),
+                     "method": (f"seed ensembles: rungs agree when their means differ by at most the tolerance plus "
+                                f"{Z_AGREE:g} combined standard errors")})
+    return ds
+
+
 def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
     """Raise ConvergenceError if the check failed (or was inconclusive and the
     config says that fails too); return a one-line summary otherwise."""
@@ -200,20 +325,27 @@ def plot(ds: xr.Dataset):
     pub = np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9)
     tol = float(ds.attrs["tolerance"])
     checked = list(ds["observable"].values)
+    ensemble = "has_member" in ds
     for ax, k in zip(axes[0], obs):
         f = ds[k].values
         ax.plot(h, f, "-", color="0.6", lw=0.7)
-        ax.plot(h, f, "o", ms=4.5, **P.SIM, label="rungs")
+        if ensemble:
+            has = ds["has_member"].values == 1
+            hm = np.broadcast_to(h[:, None], has.shape)
+            ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, color="0.6", label="single seeds")
+            ax.errorbar(h, f, yerr=Z_AGREE * ds[f"{k}_sem"].values, fmt="none", ecolor="black", elinewidth=0.9,
+                        capsize=2.5)
+        ax.plot(h, f, "o", ms=4.5, **P.SIM, label="ensemble means $\\pm$ 2 s.e." if ensemble else "rungs")
         ax.plot(h[pub], f[pub], "s", ms=9, mfc="none", mec="tab:green", mew=1.4, label="publication setting")
         if k in checked:
             i = checked.index(k)
             lim = float(ds[f"{k}_limit"])
-            ax.axhline(lim, **P.MODEL, label="Richardson limit")
+            ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else "Richardson limit")
             ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
-                       label=rf"limit $\pm$ {100 * tol:g} %")
+                       label=rf"{'finest' if ensemble else 'limit'} $\pm$ {100 * tol:g} %")
             order = float(ds.observed_order[i])
-            ax.text(0.04, 0.96, (f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable") + "\n"
-                    f"pub.: {100 * float(ds.publication_distance[i]):.2g} % off",
+            head = ("ensembles" if ensemble else f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable")
+            ax.text(0.04, 0.96, head + "\n" f"pub.: {100 * float(ds.publication_distance[i]):.2g} % off",
                     transform=ax.transAxes, va="top", fontsize=7.5)
         else:
             ax.text(0.04, 0.96, "not checked\n(not every rung is a helix)", transform=ax.transAxes,
@@ -226,5 +358,8 @@ def plot(ds: xr.Dataset):
     short = status if len(status) < 70 else status[:67] + "..."
     fig.suptitle(f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
                  f"{short}\n" + P.params_text(ds, ("L", "load", "k_fr")), fontsize=9)
-    P.bottom_legend(fig, axes[0][0], bottom=0.08)
+    if ensemble:        # five entries: two rows
+        P.bottom_legend(fig, axes[0][0], bottom=0.16, ncol=3)
+    else:
+        P.bottom_legend(fig, axes[0][0], bottom=0.08)
     return fig
