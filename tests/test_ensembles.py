@@ -101,3 +101,44 @@ def test_a_single_seed_per_length_builds_the_dataset_as_before():
     assert "member" not in ds.dims and "F_mean" not in ds
     xr.testing.assert_identical(ds, transmitted_force._build(["L20", "L40"], sims))
     assert ds["F_transmitted"].values.tolist() == [0.10, 0.08]
+
+
+# -- statistical convergence (figures/convergence.py) ----------------------------------------------
+from confined_rod.figures import convergence  # noqa: E402
+
+
+@pytest.mark.parametrize("means, sems, status", [
+    # the publication rung (index 1) within tolerance + 2 s.e. of both finer rungs
+    ([0.10, 0.070, 0.071, 0.0705], [0.002, 0.001, 0.001, 0.001], "pass"),
+    # 7 % off finer rungs that agree with each other, errors 0.5 %: a discretisation error
+    ([0.10, 0.070, 0.0753, 0.0752], [0.002, 0.0003, 0.0003, 0.0003], "fail"),
+    # the finer rungs disagree by 10 standard errors: nothing can be concluded
+    ([0.10, 0.070, 0.070, 0.080], [0.002, 0.0005, 0.0005, 0.0005], "inconclusive"),
+    # the same difference with large errors: consistent, and the publication rung agrees
+    ([0.10, 0.070, 0.070, 0.080], [0.002, 0.003, 0.003, 0.003], "pass"),
+])
+def test_statistical_verdict_on_constructed_ensembles(means, sems, status):
+    values = np.array([1.0, 0.5, 0.25, 0.125])
+    got, dist, note = convergence.statistical_verdict(values, np.array(means), np.array(sems), 1, tol=0.02)
+    assert got == status, note
+    if status != "inconclusive":
+        assert dist == pytest.approx(max(abs(means[1] - m) / m for m in means[2:]))
+    else:
+        assert "disagree beyond their errors" in note and "combined s.e." in note
+
+
+def test_ensemble_ladder_dataset_from_constructed_rungs():
+    sims = {}
+    rng = np.random.default_rng(1)
+    for l0, mean in ((1.0, 0.075), (0.5, 0.070), (0.25, 0.0702)):
+        for seed in range(6):
+            # one coarse member jams with less than a turn: the pitch is then not compared
+            d = _sim(80.0, seed, mean + 0.001 * rng.standard_normal(), turns=0.9 if (l0, seed) == (1.0, 0) else 3.2)
+            d.attrs["l0"] = l0
+            sims[f"l0_{l0}-s{seed}"] = d
+    ds = convergence.build({"parameter": "l0", "tolerance": 0.02}, sims, {"publication_value": 0.5})
+    assert ds.attrs["status"] == "pass" and ds.sizes["member"] == 6 and "pitch" not in ds
+    assert ds["value"].values.tolist() == [1.0, 0.5, 0.25]                  # coarse to fine
+    F = ds["F_transmitted_member"].values
+    np.testing.assert_allclose(ds["F_transmitted"].values, F.mean(axis=1), rtol=1e-14)
+    np.testing.assert_allclose(ds["F_transmitted_sem"].values, F.std(axis=1, ddof=1) / np.sqrt(6), rtol=1e-12)
