@@ -21,6 +21,7 @@ import xarray as xr
 
 from .errors import ConfigError
 from .io import read_yaml
+from .measure import half_reduction_length as half_reduction_length_of
 
 VERDICTS = ("reproduced", "reproduced under reading", "refuted", "not testable")
 METHODS = ("derivation", "value", "measure", "not_testable")
@@ -442,19 +443,13 @@ def half_reduction_length(ev, spec, claim):
     ds = ev.dataset(spec["figure"], claim)
     L = np.asarray(ds.L.values, dtype=float)
     frac = np.asarray(ds.F_transmitted.values, dtype=float) / float(ds.attrs["load"])
-    below = np.flatnonzero(frac < 0.5)
     lo, hi = float(spec["lo"]), float(spec["hi"])
-    evidence = f"results/datasets/{spec['figure']}.nc:F_transmitted"
-    if below.size == 0:
-        return float(L[-1]), False, evidence, f"F(L)/F(0) stays above 1/2 up to L/R = {L[-1]:g}"
-    i = below[0]
-    if i == 0:
-        return float(L[0]), lo <= L[0] <= hi, evidence, \
-            f"already {frac[0]:.3g} at the shortest rod, L/R = {L[0]:g}: the value is an upper bound"
-    # log-linear interpolation between the bracketing lengths
-    x = np.interp(np.log(0.5), [np.log(frac[i]), np.log(frac[i - 1])], [np.log(L[i]), np.log(L[i - 1])])
-    value = float(np.exp(x))
-    return value, lo <= value <= hi, evidence, f"between L/R = {L[i - 1]:g} and {L[i]:g}"
+    value, how = half_reduction_length_of(L, frac)
+    notes = {"interpolated": "interpolated between the bracketing lengths",
+             "upper bound": f"already {frac[0]:.3g} at the shortest rod, L/R = {L[0]:g}: the value is an upper bound",
+             "lower bound": f"F(L)/F(0) stays above 1/2 up to L/R = {L[-1]:g}"}
+    holds = how != "lower bound" and lo <= value <= hi
+    return value, holds, f"results/datasets/{spec['figure']}.nc:F_transmitted", notes[how]
 
 
 @measure

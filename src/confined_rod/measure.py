@@ -90,3 +90,19 @@ def defects(s: np.ndarray, dphi_ds: np.ndarray, min_links: int = 3,
         if s0 != s1:
             out.append(0.5 * (s[i0 + n0 - 1] + s[i1]))
     return np.asarray(out)
+
+
+def half_reduction_length(L: np.ndarray, fraction: np.ndarray) -> tuple[float, str]:
+    """The rod length at which the transmitted fraction |F_z(L)|/|F_z(0)| first falls below
+    1/2, interpolated linearly in (ln L, ln fraction) between the bracketing lengths; with
+    how it was found: 'interpolated', 'upper bound' (already below 1/2 at the shortest
+    length, which is returned) or 'lower bound' (never below 1/2; the longest length)."""
+    L, fraction = np.asarray(L, dtype=float), np.asarray(fraction, dtype=float)
+    below = np.flatnonzero(fraction < 0.5)
+    if below.size == 0:
+        return float(L[-1]), "lower bound"
+    i = int(below[0])
+    if i == 0:
+        return float(L[0]), "upper bound"
+    x = np.interp(np.log(0.5), [np.log(fraction[i]), np.log(fraction[i - 1])], [np.log(L[i]), np.log(L[i - 1])])
+    return float(np.exp(x)), "interpolated"

@@ -1,0 +1,203 @@
+"""Kind ``jamming_map``: the transmitted fraction |F_z(L)|/|F_z(0)| over rod length, load and
+friction, and the length at which it first falls below one half.
+
+The paper says an aspect ratio "of the order of 100 or more" is needed for a significant
+reduction of the force (its Discussion). This kind turns that into a measured curve. Its
+``grid`` (lists of L, load and k_fr) becomes one scene per point (``L<L>-F<load>-k<k_fr>``),
+each optionally a seed ensemble (``seeds:``). The dataset holds the fraction at every point
+(the ensemble mean, its standard deviation and the per-seed values where seeds are given),
+the final state's winding, and the corrected simple model beside it:
+F(L)/F(0) = 1/(1 + k_fr R L F0/(4EI)), which falls to 1/2 at L_half = 4EI/(k_fr R F0). It
+also holds the measured L_half(load, k_fr) (measure.half_reduction_length; a bound where the
+grid does not bracket it) and the largest load a helix on the wall can carry,
+4/(3 sqrt 3) EI/R^2, above which the rod folds or escapes instead (docs/model.md, "Fig 8").
+"""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .. import ensembles, theory
+from .. import plotting as P
+from ..errors import ConfigError
+from ..io import variable
+from ..measure import half_reduction_length, n_turns
+from ..quantities import attrs, label
+
+ENSEMBLES = True
+AXES = ("L", "load", "k_fr")
+OPTIONS = {
+    "grid": {"type": "object", "additionalProperties": False, "required": list(AXES),
+             "properties": {k: {"type": "array", "minItems": 1, "items": {"type": "number", "exclusiveMinimum": 0},
+                                "uniqueItems": True} for k in AXES},
+             "description": "the map's axes: rod lengths L [R], loads |F_z(0)| [EI/R^2] and friction coefficients "
+                            "k_fr; one scene per combination"},
+}
+HOW = ("interpolated", "upper bound", "lower bound")
+
+
+def _tag(v: float) -> str:
+    return f"{v:g}".replace(".", "p").replace("-", "m").replace("+", "")
+
+
+def expand_sweeps(fig_cfg: dict) -> None:
+    """The grid becomes scenes, in place (idempotent): one per (L, load, k_fr)."""
+    grid = fig_cfg.get("grid")
+    if not grid:
+        return
+    scenes = fig_cfg.setdefault("scenes", {}) or {}
+    for L in grid["L"]:
+        for load in grid["load"]:
+            for k in grid["k_fr"]:
+                name = f"L{_tag(L)}-F{_tag(load)}-k{_tag(k)}"
+                if not any(n == name or n.startswith(name + "-s") for n in scenes):   # already expanded
+                    scenes[name] = {"L": L, "load": load, "k_fr": k}
+    fig_cfg["scenes"] = scenes
+
+
+def varied(fig_cfg) -> tuple[str, ...]:
+    return AXES + ("pore_length", "seed")
+
+
+def validate(figure, fig_cfg, built) -> None:
+    from ._common import same_except
+
+    if not fig_cfg.get("grid"):
+        raise ConfigError(f"figures.{figure}.grid: a jamming map needs a grid of L, load and k_fr")
+    if len(fig_cfg["grid"]["L"]) < 2:
+        raise ConfigError(f"figures.{figure}.grid.L: a jamming map needs at least 2 lengths, got "
+                          f"{fig_cfg['grid']['L']}")
+    same_except(figure, built, varied(fig_cfg), "a jamming map varies only L, the load and k_fr (and the seed)")
+
+
+def caption(figure, fig_cfg, built) -> str:
+    g = fig_cfg["grid"]
+    n = len(built) / (len(g["L"]) * len(g["load"]) * len(g["k_fr"]))
+    return ("Jamming map: transmitted fraction |F_z(L)|/|F_z(0)| against L/R = " + ", ".join(f"{v:g}" for v in g["L"])
+            + " for loads " + ", ".join(f"{v:g}" for v in g["load"]) + " EI/R^2 (colours), one panel per k_fr = "
+            + ", ".join(f"{v:g}" for v in g["k_fr"])
+            + ("" if n <= 1 else f"; symbols the mean over {n:g} seeds, error bars one standard deviation")
+            + "; dashed: the corrected simple model 1/(1 + k_fr R L F0/(4EI)); grey line: one half. Last panel: the "
+            "length L_half at which the fraction first falls below 1/2 against the load, measured (symbols; open: a "
+            "bound, the grid does not bracket it) and from the simple model, 4EI/(k_fr R F0) (lines); the grey band "
+            "marks loads above 4/(3 sqrt 3) EI/R^2, which no helix on the wall can carry.")
+
+
+def build(fig_cfg, sims, context=None) -> xr.Dataset:
+    g = {k: np.array(sorted(fig_cfg["grid"][k]), dtype=float) for k in AXES}
+    first = next(iter(sims.values()))
+    R, EI = float(first.attrs["R"]), float(first.attrs["EI"])
+    members: dict[tuple, list[xr.Dataset]] = {}
+    for d in sims.values():
+        members.setdefault(tuple(float(d.attrs[k]) for k in AXES), []).append(d)
+    shape = tuple(len(g[k]) for k in AXES)
+    n_max = max(len(m) for m in members.values())
+    frac = np.zeros(shape + (n_max,))
+    has = np.zeros(shape + (n_max,), dtype=np.int8)
+    turns = np.zeros(shape)
+    converged = np.ones(shape, dtype=np.int8)
+    escaped = np.zeros(shape, dtype=np.int8)
+    for i, L in enumerate(g["L"]):
+        for j, load in enumerate(g["load"]):
+            for k, k_fr in enumerate(g["k_fr"]):
+                ms = members.get((L, load, k_fr))
+                if not ms:
+                    raise ValueError(f"jamming map: no simulation at L = {L:g}, load = {load:g}, k_fr = {k_fr:g}")
+                frac[i, j, k, :len(ms)] = [float(d["F_transmitted"]) / load for d in ms]
+                has[i, j, k, :len(ms)] = 1
+                turns[i, j, k] = np.mean([n_turns(d) for d in ms])
+                converged[i, j, k] = min(int(d["converged"]) for d in ms)
+                escaped[i, j, k] = max(int(d["escaped"]) for d in ms)
+    stats = [[[ensembles.stats(frac[i, j, k, has[i, j, k] == 1]) for k in range(shape[2])]
+              for j in range(shape[1])] for i in range(shape[0])]
+    mean = np.array([[[s.mean for s in row] for row in plane] for plane in stats])
+    std = np.array([[[s.std for s in row] for row in plane] for plane in stats])
+    L_model = np.geomspace(0.8 * g["L"].min(), 1.25 * g["L"].max(), 200)
+    model = np.array([[theory.force_decay(L_model, load, k, R, EI) / load for k in g["k_fr"]] for load in g["load"]])
+    half = np.zeros(shape[1:])
+    how = np.zeros(shape[1:], dtype=np.int8)
+    for j in range(shape[1]):
+        for k in range(shape[2]):
+            v, h = half_reduction_length(g["L"], mean[:, j, k])
+            half[j, k], how[j, k] = v, HOW.index(h)
+    half_model = np.array([[-theory.critical_length(load, k, R, EI) for k in g["k_fr"]] for load in g["load"]])
+    dims = AXES
+    data = {
+        "fraction": xr.Variable(dims, mean, attrs={**attrs("transmitted_fraction"),
+                                                   "long_name": "transmitted fraction |F_z(L)|/|F_z(0)| (ensemble "
+                                                                "mean where the point has several seeds)"}),
+        "fraction_std": xr.Variable(dims, std, attrs={"units": "1", "long_name": "standard deviation of the "
+                                                      "transmitted fraction over the seeds (0 for one seed)"}),
+        "fraction_member": xr.Variable(dims + ("member",), frac, attrs={"units": "1", "long_name": "transmitted "
+                                       "fraction of each seed (0 where has_member is 0)"}),
+        "has_member": variable(dims + ("member",), has, "has_member"),
+        "n_turns": variable(dims, turns, "n_turns"),
+        "converged": variable(dims, converged, "converged"),
+        "escaped": variable(dims, escaped, "escaped"),
+        "fraction_model": xr.Variable(("load", "k_fr", "L_model"), model,
+                                      attrs={"units": "1", "long_name": "transmitted fraction of the corrected simple "
+                                             "model, 1/(1 + k_fr R L F0/(4EI))"}),
+        "L_half": xr.Variable(("load", "k_fr"), half, attrs={"units": "R", "long_name": "rod length at which the "
+                              "transmitted fraction first falls below 1/2 (see L_half_how)"}),
+        "L_half_how": xr.Variable(("load", "k_fr"), how, attrs={"units": "1", "long_name": "how L_half was found",
+                                  "flag_values": np.arange(len(HOW), dtype=np.int8),
+                                  "flag_meanings": " ".join(h.replace(" ", "_") for h in HOW)}),
+        "L_half_model": xr.Variable(("load", "k_fr"), half_model, attrs={"units": "R", "long_name":
+                                    "L_half of the corrected simple model, 4EI/(k_fr R F0)"}),
+    }
+    coords = {"L": variable(("L",), g["L"], "L"), "load": variable(("load",), g["load"], "load"),
+              "k_fr": variable(("k_fr",), g["k_fr"], "k_fr"), "L_model": variable(("L_model",), L_model, "L_model"),
+              "member": variable(("member",), np.arange(n_max), "member")}
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs["helix_limit"] = theory.helix_load_limit(R, EI)
+    return ds
+
+
+def plot(ds: xr.Dataset):
+    k_frs = ds["k_fr"].values
+    loads = ds["load"].values
+    fig, axes = P.plt.subplots(1, len(k_frs) + 1, figsize=(3.0 * (len(k_frs) + 1) + 0.3, 3.3), squeeze=False,
+                               label=ds.attrs["title"])
+    colors = P.plt.get_cmap("viridis")(np.linspace(0.0, 0.85, len(loads)))
+    L = ds["L"].values
+    for ax, k in zip(axes[0], range(len(k_frs))):
+        for j, c in enumerate(colors):
+            f = ds["fraction"].values[:, j, k]
+            ok = ds["converged"].values[:, j, k] == 1
+            ax.errorbar(L, f, yerr=ds["fraction_std"].values[:, j, k], fmt="-", color=c, lw=0.8, capsize=2,
+                        label=rf"$|F_z(0)| = {loads[j]:g}\,EI/R^2$")
+            ax.plot(L[ok], f[ok], "o", ms=4, color=c)
+            if (~ok).any():
+                ax.plot(L[~ok], f[~ok], "o", ms=4, mfc="white", mec=c)
+            ax.plot(ds["L_model"], ds["fraction_model"].values[j, k], "--", color=c, lw=1.0)
+        ax.axhline(0.5, color="0.6", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        P.plain_log_ticks(ax.xaxis)
+        P.plain_log_ticks(ax.yaxis)
+        ax.set_xlabel(label("L"))
+        ax.set_ylabel(r"$|F_z(L)|/|F_z(0)|$")
+        ax.set_title(rf"$k_{{fr}} = {k_frs[k]:g}$", fontsize=9)
+    ax = axes[0][-1]
+    markers = "osD^v"
+    for k, k_fr in enumerate(k_frs):
+        m = markers[k % len(markers)]
+        half, how = ds["L_half"].values[:, k], ds["L_half_how"].values[:, k]
+        exact = how == 0
+        ax.plot(loads[exact], half[exact], m, color="black", ms=5, label=rf"measured, $k_{{fr}} = {k_fr:g}$")
+        if (~exact).any():
+            ax.plot(loads[~exact], half[~exact], m, mfc="white", mec="black", ms=5)
+        ax.plot(loads, ds["L_half_model"].values[:, k], "--", color="tab:blue", lw=1.0 + 0.4 * k,
+                label=rf"model, $k_{{fr}} = {k_fr:g}$")
+    ax.axvspan(float(ds.attrs["helix_limit"]), max(loads.max(), float(ds.attrs["helix_limit"])) * 1.5, color="0.85",
+               lw=0, label="no helix on the wall")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(label("load"))
+    ax.set_ylabel(r"$L_{1/2}$ [$R$]")
+    ax.set_title("half reduction", fontsize=9)
+    ax.legend(fontsize=6.5, loc="upper right")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, -0.01), fontsize=7.5)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    return fig
