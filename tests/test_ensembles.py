@@ -142,3 +142,28 @@ def test_ensemble_ladder_dataset_from_constructed_rungs():
     F = ds["F_transmitted_member"].values
     np.testing.assert_allclose(ds["F_transmitted"].values, F.mean(axis=1), rtol=1e-14)
     np.testing.assert_allclose(ds["F_transmitted_sem"].values, F.std(axis=1, ddof=1) / np.sqrt(6), rtol=1e-12)
+
+
+# -- the jamming map (figures/jamming_map.py) -------------------------------------------------------
+from confined_rod.figures import jamming_map  # noqa: E402
+
+
+def test_jamming_map_grid_expansion_is_idempotent_and_the_half_length_interpolates():
+    fig = {"kind": "jamming_map", "grid": {"L": [10, 40], "load": [0.25], "k_fr": [0.8]}, "defaults": {"seeds": 2}}
+    config = pipeline.expand({"figures": {"map": fig}})
+    assert pipeline.scenes(config, "map") == ["L10-F0p25-k0p8-s0", "L10-F0p25-k0p8-s1",
+                                              "L40-F0p25-k0p8-s0", "L40-F0p25-k0p8-s1"]
+    assert pipeline.scenes(pipeline.expand(config), "map") == pipeline.scenes(config, "map")
+    # fractions 0.8 and 0.2 (means over two seeds) fall as 1/L: 1/2 at L = 10 x 0.8/0.5 = 16
+    sims = {}
+    for name, L, F in (("a", 10.0, 0.19), ("b", 10.0, 0.21), ("c", 40.0, 0.04), ("d", 40.0, 0.06)):
+        d = _sim(L, {"a": 0, "b": 1, "c": 0, "d": 1}[name], F)
+        sims[name] = d
+    ds = jamming_map.build(config["figures"]["map"], sims)
+    np.testing.assert_allclose(ds["fraction"].values[:, 0, 0], [0.8, 0.2], rtol=1e-12)
+    assert float(ds["L_half"][0, 0]) == pytest.approx(16.0, rel=1e-12)
+    assert jamming_map.HOW[int(ds["L_half_how"][0, 0])] == "interpolated"
+    # the corrected simple model: L_half = 4 EI/(k_fr R F0) = 20 R at load 0.25, k_fr 0.8
+    assert float(ds["L_half_model"][0, 0]) == pytest.approx(20.0, rel=1e-12)
+    np.testing.assert_allclose(ds["fraction_std"].values[:, 0, 0], [np.std([0.76, 0.84], ddof=1),
+                                                                     np.std([0.16, 0.24], ddof=1)], rtol=1e-12)

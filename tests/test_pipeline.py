@@ -1,5 +1,6 @@
 """Pipeline configuration (figure -> scenes -> parameters), its schema, the per-figure
 datasets and the figures. The Snakemake run itself is exercised by .ci/run."""
+import collections
 import copy
 import os
 import subprocess
@@ -74,17 +75,23 @@ def test_shared_scenes_are_simulated_once():
     assert pipeline.canonical_scene(config, "fig4_Fonl", "c") == ("fig6_FonL", "L320-s0")
     assert pipeline.canonical_scene(config, "fig4_Fonl", "a") == ("fig4_Fonl", "a")
     # every convergence ladder's publication rung is a scene simulated anyway
-    assert pipeline.canonical_scene(config, "conv_l0", "l0_05") == ("fig6_FonL", "L80-s0")
+    assert pipeline.canonical_scene(config, "conv_l0", "l0_05-s0") == ("fig6_FonL", "L80-s0")
+    assert pipeline.canonical_scene(config, "conv_l0", "l0_05-s7")[0] == "conv_l0"       # beyond Fig 6's seeds
     assert pipeline.canonical_scene(config, "conv_tol", "tol5") == ("fig6_FonL", "L80-s0")
     assert pipeline.canonical_scene(config, "conv_k_ph_frictionless", "k10000") == ("conv_l0_frictionless", "l0_05")
+    # the jamming map's points at the paper's load and friction are Fig 6's seeds
+    assert pipeline.canonical_scene(config, "jamming_map", "L80-F0p25-k0p8-s2") == ("fig6_FonL", "L80-s2")
     sims = pipeline.expected_outputs(config)["sims"]
     # Fig 5 shows the rod of Fig 4(c): the same simulation, not a new run
     assert pipeline.canonical_scene(config, "fig5_pitch", "c") == ("fig6_FonL", "L320-s0")
-    # 6 x 5 seeds + 2 paper scenes of Figs 6 and 4, 3 + 1 + 1 as-printed and Fig 7 scenes, 2 of Fig 1,
-    # 18 new ladder rungs (of 23), 10 time-vs-error runs of their own, 9 load-path jobs of Fig 3 and 10
-    # transitions of Fig 2, 14 runs of Fig 8 (own files: the event, 4 fold thresholds, 4 escape
-    # thresholds and 5 of the span scan), 57 stability-map probes
-    assert len(sims) == len(set(sims)) == 32 + 5 + 2 + 18 + 10 + 9 + 10 + 14 + 57
+    by_folder = collections.Counter(str(Path(p).parent) for p in sims)
+    assert len(sims) == len(set(sims)) == sum(by_folder.values())
+    # Fig 6: 6 lengths x 5 seeds; Fig 4: (a) only ((b) is a point of the jamming map, (c) of Fig 6);
+    # the l0 ladder: 4 rungs x 30 seeds less the 5 of Fig 6; the jamming map: 60 points less the 15
+    # of Fig 6
+    assert by_folder["results/sims/fig6_FonL"] == 30 and by_folder["results/sims/fig4_Fonl"] == 1
+    assert by_folder["results/sims/conv_l0"] == 4 * 30 - 5 and by_folder["results/sims/jamming_map"] == 60 - 15
+    assert by_folder["results/probes/stability_map"] == 57
     assert sum(p.startswith("results/paths/fig3_bifurcation/") for p in sims) == 9
 
 

@@ -193,6 +193,8 @@ def plot(ds: xr.Dataset):
                lw=0, label="no helix on the wall")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    P.plain_log_ticks(ax.xaxis)
+    P.plain_log_ticks(ax.yaxis)
     ax.set_xlabel(label("load"))
     ax.set_ylabel(r"$L_{1/2}$ [$R$]")
     ax.set_title("half reduction", fontsize=9)
