@@ -114,8 +114,9 @@ from confined_rod.figures import convergence  # noqa: E402
     ([0.10, 0.070, 0.0753, 0.0752], [0.002, 0.0003, 0.0003, 0.0003], "fail"),
     # the finer rungs disagree by 10 standard errors: nothing can be concluded
     ([0.10, 0.070, 0.070, 0.080], [0.002, 0.0005, 0.0005, 0.0005], "inconclusive"),
-    # the same difference with large errors: consistent, and the publication rung agrees
-    ([0.10, 0.070, 0.070, 0.080], [0.002, 0.003, 0.003, 0.003], "pass"),
+    # the same difference with large errors: consistent, and the publication rung agrees, but
+    # 12.5 % off the finest rung: a pass only within the errors, and said so
+    ([0.10, 0.070, 0.070, 0.080], [0.002, 0.003, 0.003, 0.003], "pass within errors"),
 ])
 def test_statistical_verdict_on_constructed_ensembles(means, sems, status):
     values = np.array([1.0, 0.5, 0.25, 0.125])
