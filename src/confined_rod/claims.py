@@ -2,7 +2,7 @@
 
 Each claim names how it is tested (see the header of ``paper/claims.yaml``): a symbolic
 derivation (:mod:`confined_rod.derivations`), a number from a dataset compared with the
-paper's within a tolerance, a number inside a range, a named measure (:data:`MEASURES`),
+paper's within a tolerance, a named measure (:data:`MEASURES`),
 or a reason why it cannot be tested. :func:`evaluate` returns one :class:`Verdict` per
 claim; the verdict is computed here, never typed, and a claim whose evidence (dataset,
 variable, simulation) is missing raises :class:`ClaimError`, so the build fails.

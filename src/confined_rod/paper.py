@@ -121,8 +121,9 @@ SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
 
 
 def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
-    """Numbers the text quotes beyond the claims: the convergence verdicts and the
-    publication-setting errors, the time-vs-error reference, the build's provenance."""
+    """Numbers the text quotes beyond the claims: the parameters every dataset's scenes
+    share (\\val{<figure>.<parameter>}), the convergence table (verdicts and distances of
+    the publication settings), the build's git commits."""
     rows = []
     for name, ds in sorted(datasets.items()):
         for attr in SCENE_ATTRS:                # the parameters its scenes share, e.g. \val{fig7_tiny_force.load}
