@@ -66,6 +66,29 @@ def group(names: Sequence[str], attrs: Mapping[str, Mapping[str, object]], param
     return [sorted(g, key=lambda n: int(attrs[n].get("seed", 0))) for g in groups.values()]
 
 
+class Padded:
+    """Members of several ensembles (groups of scene ids) as rectangular arrays: row i holds
+    group i's members, padded to the largest group; ``has`` is 1 where a member exists."""
+
+    def __init__(self, groups: Sequence[Sequence[str]], sims: Mapping[str, xr.Dataset]):
+        self.groups, self.sims = [list(g) for g in groups], sims
+        n_max = max(len(g) for g in self.groups)
+        self.has = np.zeros((len(self.groups), n_max), dtype=np.int8)
+        for i, g in enumerate(self.groups):
+            self.has[i, :len(g)] = 1
+
+    def values(self, fn, fill: float = 0.0) -> np.ndarray:
+        """fn(member dataset) for every member; `fill` where has is 0."""
+        out = np.full(self.has.shape, fill, dtype=float)
+        for i, g in enumerate(self.groups):
+            out[i, :len(g)] = [fn(self.sims[n]) for n in g]
+        return out
+
+    def mean(self, fn) -> np.ndarray:
+        """Mean of fn over each group's members."""
+        return (self.values(fn) * self.has).sum(axis=1) / self.has.sum(axis=1)
+
+
 def seeds_of(spec, first: int) -> list[int]:
     """The seeds of a `seeds:` entry: N -> first, ..., first + N - 1; a list as given."""
     if isinstance(spec, bool) or not isinstance(spec, (int, list)):

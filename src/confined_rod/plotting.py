@@ -88,6 +88,14 @@ def plain_log_ticks(axis) -> None:
     axis.set_minor_formatter(ticker.NullFormatter())
 
 
+def log_axes(ax) -> None:
+    """Both axes logarithmic, with plain tick labels (plain_log_ticks)."""
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    plain_log_ticks(ax.xaxis)
+    plain_log_ticks(ax.yaxis)
+
+
 def params_text(ds: xr.Dataset, keys) -> str:
     """'$L = 320\\,R$, $|F_z(0)| = 0.25\\,EI/R^2$, ...' for the scene parameters among ``keys``
     that the dataset records (symbols and units from quantities.py)."""

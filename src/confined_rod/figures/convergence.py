@@ -233,17 +233,8 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
         raise ValueError(f"convergence ladder over {param} does not contain the publication value {publication_value}")
     ipub = int(np.flatnonzero(np.isclose(values, publication_value, rtol=1e-9))[0])
     tol = float(fig_cfg["tolerance"])
-    n_max = max(len(g) for g in groups)
-    has = np.zeros((len(groups), n_max), dtype=np.int8)
-    for i, g in enumerate(groups):
-        has[i, :len(g)] = 1
-
-    def members(fn):
-        out = np.zeros((len(groups), n_max))
-        for i, g in enumerate(groups):
-            out[i, :len(g)] = [fn(sims[n]) for n in g]
-        return out
-
+    pad = ensembles.Padded(groups, sims)
+    members, has = pad.values, pad.has
     turns = members(n_turns)
     helical = (turns >= 1.0) | (has == 0)
     obs = {"F_transmitted": members(lambda d: float(d["F_transmitted"])), "L_z": members(lambda d: float(d["L_z"]))}
@@ -275,7 +266,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
         status = "pass within errors: " + "; ".join(marginal)
     else:
         status = "pass"
-    data["n_turns"] = variable(("rung",), (turns * has).sum(axis=1) / has.sum(axis=1), "n_turns")
+    data["n_turns"] = variable(("rung",), pad.mean(n_turns), "n_turns")
     data["n_turns_member"] = xr.Variable(("rung", "member"), turns, attrs={**attrs("n_turns"), "long_name":
                                          attrs("n_turns")["long_name"] + " of each ensemble member"})
     data["has_member"] = variable(("rung", "member"), has, "has_member")
@@ -291,7 +282,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
               "value": xr.Variable(("rung",), values, attrs={**attrs("value"), "long_name": f"value of {param}",
                                                               "parameter": param}),
               "h": xr.Variable(("rung",), h, attrs={**attrs("h"), "definition": hname}),
-              "member": variable(("member",), np.arange(n_max), "member"),
+              "member": variable(("member",), np.arange(has.shape[1]), "member"),
               "observable": xr.Variable(("observable",), np.array(checked, dtype=object), attrs=attrs("observable"))}
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"parameter": param, "refinement": hname, "publication_value": publication_value,

@@ -86,29 +86,16 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
     means, plus every member and the statistics."""
     first_members = [g[0] for g in groups]
     ds = _build(first_members, sims)
-    n_max = max(len(g) for g in groups)
-
-    def members(fn, fill=0.0):
-        out = np.full((len(groups), n_max), fill, dtype=float)
-        for i, g in enumerate(groups):
-            out[i, :len(g)] = [fn(sims[n]) for n in g]
-        return out
-
-    has = np.zeros((len(groups), n_max), dtype=np.int8)
-    for i, g in enumerate(groups):
-        has[i, :len(g)] = 1
+    pad = ensembles.Padded(groups, sims)
+    members, has = pad.values, pad.has
     F = members(lambda d: float(d["F_transmitted"]))
     cls = members(lambda d: float(ensembles.CLASSES.index(ensembles.final_class(d))))
     st = [ensembles.stats(F[i, has[i] == 1]) for i in range(len(groups))]
 
-    def mean_of(fn):
-        vals = members(fn)
-        return (vals * has).sum(axis=1) / has.sum(axis=1)
-
     ds["F_transmitted"] = variable(("L",), [s.mean for s in st], "F_transmitted")
-    ds["L_z"] = variable(("L",), mean_of(lambda d: float(d["L_z"])), "L_z")
-    ds["n_contact"] = variable(("L",), mean_of(lambda d: float(d["contact"].sum())), "n_contact")
-    ds["n_turns"] = variable(("L",), mean_of(n_turns), "n_turns")
+    ds["L_z"] = variable(("L",), pad.mean(lambda d: float(d["L_z"])), "L_z")
+    ds["n_contact"] = variable(("L",), pad.mean(lambda d: float(d["contact"].sum())), "n_contact")
+    ds["n_turns"] = variable(("L",), pad.mean(n_turns), "n_turns")
     ds["converged"] = variable(("L",), np.int8(members(lambda d: float(d["converged"]), 1.0).min(axis=1)), "converged")
     ds["escaped"] = variable(("L",), np.int8(members(lambda d: float(d["escaped"])).max(axis=1)), "escaped")
     ds["residual_force"] = variable(("L",), members(lambda d: float(d["residual_force"])).max(axis=1),
@@ -127,7 +114,7 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
     ds["n_class"] = variable(("L", "state_class_name"),
                              [[int(((cls[i] == k) & (has[i] == 1)).sum()) for k in range(len(ensembles.CLASSES))]
                               for i in range(len(groups))], "n_class")
-    ds = ds.assign_coords(member=variable(("member",), np.arange(n_max), "member"),
+    ds = ds.assign_coords(member=variable(("member",), np.arange(has.shape[1]), "member"),
                           state_class_name=variable(("state_class_name",), np.array(ensembles.CLASSES, dtype=object),
                                                     "state_class_name"))
     ds.attrs["ensemble"] = "mean, standard deviation (ddof 1), standard error, min, max over the seeds of each length"
@@ -157,10 +144,7 @@ def plot(ds: xr.Dataset):
     ax.axhline(float(ds.attrs["load"]), color="0.7", lw=0.8)
     ax.annotate("load $|F_z(0)|$", (ds["L_model"].values[0], float(ds.attrs["load"])), xytext=(2, -10),
                 textcoords="offset points", fontsize=8, color="0.4")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    P.plain_log_ticks(ax.xaxis)
-    P.plain_log_ticks(ax.yaxis)
+    P.log_axes(ax)
     ax.set_xlabel(label("L"))
     ax.set_ylabel(label("F_transmitted"))
     ax.set_title(P.params_text(ds, ("load", "k_fr", "l0")), fontsize=9)
