@@ -168,3 +168,110 @@ def test_jamming_map_grid_expansion_is_idempotent_and_the_half_length_interpolat
     assert float(ds["L_half_model"][0, 0]) == pytest.approx(20.0, rel=1e-12)
     np.testing.assert_allclose(ds["fraction_std"].values[:, 0, 0], [np.std([0.76, 0.84], ddof=1),
                                                                      np.std([0.16, 0.24], ddof=1)], rtol=1e-12)
+
+
+# -- ensembles of force profiles (Figs 4 and 7) -------------------------------------------------
+from confined_rod import Scene, claims, theory  # noqa: E402
+from confined_rod.figures import force_profile  # noqa: E402
+
+
+def _profile(seed, scale=1.0, contact=True, L=200.0, N=200, k_fr=0.8, load=0.25):
+    """The simple model's profile |F_z(s)| = (1/F0 + k_fr R s/(4EI))^-1 with its decay scaled by
+    `scale` (a member that transmits more or less), as a scene dataset of seed `seed`."""
+    s = np.linspace(0.0, L, N + 1)
+    F = theory.force_decay(scale * s, load, k_fr)
+    attrs = {k: v for k, v in Scene(L=L, k_fr=k_fr, load=load, l0=L / N, seed=seed).to_dict().items()
+             if not isinstance(v, (tuple, type(None)))}
+    return xr.Dataset(
+        {"F_z": ("joint", -F), "contact": ("link", np.full(N, int(contact), np.int8)),
+         "s_helix": ("helix", np.linspace(0, L, N)), "dphi_ds": ("helix", np.full(N, 0.3)),
+         "phi": ("helix", np.linspace(0, 9 if contact else 3, N)),    # 1.4 turns on the wall, or half a turn
+         "F_transmitted": ((), F[-1]), "converged": ((), np.int8(1))},
+        coords={"s": ("joint", s), "s_link": ("link", 0.5 * (s[1:] + s[:-1]))}, attrs=attrs)
+
+
+def test_force_profile_ensemble_shows_the_lowest_seed_and_averages_the_fraction():
+    printed = {"c": {"A": 5.0, "l0": 20.0, "c": -1.0}}
+    cfg = {"paper_fits": printed}
+    members = {"c-s2": _profile(2, 1.2), "c-s0": _profile(0, 1.0), "c-s1": _profile(1, 0.8),
+               "c-s3": _profile(3, 1.0, contact=False)}
+    ds = force_profile.build(cfg, members)
+    assert ds["panel"].values.tolist() == ["c"] and int(ds["shown_seed"][0]) == 0
+    # the profile, fit and printed-fit comparison are the lowest seed's, exactly as a single run of it
+    single = force_profile.build(cfg, {"c": members["c-s0"]})
+    for v in ("F_abs", "fit_c", "fit_l0", "fit_A", "paper_rms_log_ratio", "paper_fit_fraction"):
+        xr.testing.assert_identical(ds[v], single[v])
+    assert float(ds["transmitted_fraction_shown"][0]) == float(single["transmitted_fraction"][0])
+    # the transmitted fraction is the mean over all four members, with its statistics
+    frac = [float(members[f"c-s{k}"]["F_transmitted"]) / 0.25 for k in range(4)]
+    assert float(ds["transmitted_fraction"][0]) == pytest.approx(np.mean(frac), rel=1e-14)
+    assert float(ds["fraction_std"][0]) == pytest.approx(np.std(frac, ddof=1), rel=1e-12)
+    assert float(ds["fraction_min"][0]) == min(frac) and float(ds["fraction_max"][0]) == max(frac)
+    assert ds["member_seed"].values[0].tolist() == [0, 1, 2, 3]
+    # the fit of a pure model profile has c = -1 (scaling s keeps the form); the member without
+    # wall contact has no fit, flagged, and no NaN anywhere
+    assert ds["has_fit_member"].values[0].tolist() == [1, 1, 1, 0]
+    np.testing.assert_allclose(ds["fit_c_member"].values[0, :3], -1.0, atol=1e-6)
+    assert float(ds["fit_c_mean"][0]) == pytest.approx(-1.0, abs=1e-6)
+    assert ds["n_class"].sel(state_class_name="planar").values.tolist() == [1]
+    assert np.all(ds["F_abs_min"].values <= ds["F_abs"].values) and np.all(ds["F_abs"].values <= ds["F_abs_max"])
+    assert not any(np.issubdtype(v.dtype, np.floating) and not np.all(np.isfinite(v.values))
+                   for v in ds.data_vars.values())
+
+
+def test_a_single_seed_force_profile_builds_as_before():
+    sims = {"a": _profile(0, 1.0, k_fr=0.3), "c": _profile(0, 1.0)}
+    ds = force_profile.build({"panel_parameter": "k_fr"}, sims)
+    assert "member" not in ds.dims and "shown_seed" not in ds
+    xr.testing.assert_identical(ds, force_profile._build({"panel_parameter": "k_fr"}, sims))
+
+
+def test_force_profile_ensemble_config_keeps_the_printed_fits_by_panel():
+    config = pipeline.expand({"figures": {"fig7": {
+        "kind": "force_profile", "defaults": {"L": 40, "load": 0.1, "k_fr": 0.8, "l0": 1.0, "seeds": 3},
+        "scenes": {"small_load": {}}, "paper_fits": {"small_load": {"A": 15.5, "l0": 2010.0, "c": -0.942}}}}})
+    assert pipeline.scenes(config, "fig7") == ["small_load-s0", "small_load-s1", "small_load-s2"]
+    pipeline.validate(config)                      # paper_fits names the panel, not its members
+    assert "ensemble of 3 runs" in pipeline.caption(config, "fig7")
+    config["figures"]["fig7"]["paper_fits"]["other"] = {"A": 1.0, "l0": 1.0, "c": -1.0}
+    with pytest.raises(ConfigError, match="paper_fits: 'other' is not one of its scenes"):
+        pipeline.validate(config)
+
+
+def test_claims_read_the_lowest_seed_of_an_ensemble():
+    sims = {f"fig4/{n}": d for n, d in {"a-s0": _profile(0, 1.0, L=100.0), "c-s1": _profile(1, 1.0),
+                                        "c-s0": _profile(0, 1.0)}.items()}
+    ev = claims.Evidence(datasets={}, sims=sims)
+    assert ev.sim("fig4", -1, "x")[0] == "fig4/c-s0" and ev.sim("fig4", 0, "x")[0] == "fig4/a-s0"
+
+
+# -- the jamming map's fold boundary, read from the Fig 8 dataset --------------------------------
+def _escape_dataset():
+    return xr.Dataset({"threshold_lo": ("aspect", [0.64, 0.66, 0.165]), "threshold_hi": ("aspect", [0.65, 0.67, 0.17]),
+                       "threshold_R2_over_EI": ("aspect", [1.0, 1.0, 4.0]), "escaped_above": ("aspect", [0, 0, 0]),
+                       "aspect_R": ("aspect", [1.0, 1.0, 2.0]), "free_span": ("aspect", [0.0, 0.0, 0.0])},
+                      coords={"aspect": [40.0, 80.0, 80.0]}, attrs={"git_commit": "abc"})
+
+
+def test_jamming_map_reads_the_fold_thresholds_in_units_of_EI_over_R2():
+    fig = {"kind": "jamming_map", "grid": {"L": [10, 40], "load": [0.25], "k_fr": [0.8]}, "thresholds": "fig8"}
+    sims = {n: _sim(L, 0, F) for n, L, F in (("a", 10.0, 0.2), ("b", 40.0, 0.05))}
+    ds = jamming_map.build(fig, sims, {"datasets": {"fig8": _escape_dataset()}})
+    np.testing.assert_allclose(ds["boundary_load_lo"].values, [0.64, 0.66, 0.66], rtol=1e-14)   # R = 2: 0.165 x 4
+    np.testing.assert_allclose(ds["boundary_load_hi"].values, [0.65, 0.67, 0.68], rtol=1e-14)
+    assert ds["boundary_aspect"].values.tolist() == [40.0, 80.0, 80.0]
+    # every threshold lies below the largest load a helix on the wall can carry, 4/(3 sqrt 3)
+    assert np.all(ds["boundary_load_hi"].values < ds.attrs["helix_limit"])
+    with pytest.raises(ValueError, match="thresholds = 'fig8'"):
+        jamming_map.build(fig, sims, {"datasets": {}})
+
+
+def test_a_figure_read_by_another_must_exist_and_be_of_the_right_kind():
+    config = {"figures": {"map": {"kind": "jamming_map", "grid": {"L": [10, 20], "load": [0.25], "k_fr": [0.8]},
+                                  "thresholds": "fig8"},
+                          "fig8": {"kind": "pitch_profile", "scenes": {"c": {"L": 20, "load": 0.25}}}}}
+    with pytest.raises(ConfigError, match="figures.map.thresholds: figure 'fig8' is of kind 'pitch_profile'"):
+        pipeline.read_figures(config, "map")
+    config["figures"]["map"]["thresholds"] = "nope"
+    with pytest.raises(ConfigError, match="figures.map.thresholds: 'nope' is not another figure"):
+        pipeline.validate(config)

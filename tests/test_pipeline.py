@@ -72,8 +72,9 @@ def test_validate_names_the_entry_and_the_value():
 def test_shared_scenes_are_simulated_once():
     config = pipeline.expand(load(CONFIGS[0]))
     # Fig 4(c) (L 320, load 0.25, k_fr 0.8, seed 0) is the seed-0 member of the L = 320 point of Fig 6
-    assert pipeline.canonical_scene(config, "fig4_Fonl", "c") == ("fig6_FonL", "L320-s0")
-    assert pipeline.canonical_scene(config, "fig4_Fonl", "a") == ("fig4_Fonl", "a")
+    assert pipeline.canonical_scene(config, "fig4_Fonl", "c-s0") == ("fig6_FonL", "L320-s0")
+    assert pipeline.canonical_scene(config, "fig4_Fonl", "c-s4") == ("fig6_FonL", "L320-s4")
+    assert pipeline.canonical_scene(config, "fig4_Fonl", "a-s0") == ("fig4_Fonl", "a-s0")
     # every convergence ladder's publication rung is a scene simulated anyway
     assert pipeline.canonical_scene(config, "conv_l0", "l0_05-s0") == ("fig6_FonL", "L80-s0")
     assert pipeline.canonical_scene(config, "conv_l0", "l0_05-s7")[0] == "conv_l0"       # beyond Fig 6's seeds
@@ -86,10 +87,11 @@ def test_shared_scenes_are_simulated_once():
     assert pipeline.canonical_scene(config, "fig5_pitch", "c") == ("fig6_FonL", "L320-s0")
     by_folder = collections.Counter(str(Path(p).parent) for p in sims)
     assert len(sims) == len(set(sims)) == sum(by_folder.values())
-    # Fig 6: 6 lengths x 5 seeds; Fig 4: (a) only ((b) is a point of the jamming map, (c) of Fig 6);
+    # Fig 6: 6 lengths x 5 seeds; Fig 4: 5 seeds of (a) and the 2 seeds of (b) beyond the jamming
+    # map's 3 ((c) is Fig 6's L/R = 320);
     # the l0 ladder: 4 rungs x 30 seeds less the 5 of Fig 6; the jamming map: 60 points less the 15
     # of Fig 6
-    assert by_folder["results/sims/fig6_FonL"] == 30 and by_folder["results/sims/fig4_Fonl"] == 1
+    assert by_folder["results/sims/fig6_FonL"] == 30 and by_folder["results/sims/fig4_Fonl"] == 5 + 2
     assert by_folder["results/sims/conv_l0"] == 4 * 30 - 5 and by_folder["results/sims/jamming_map"] == 60 - 15
     assert by_folder["results/probes/stability_map"] == 57
     assert sum(p.startswith("results/paths/fig3_bifurcation/") for p in sims) == 9

@@ -19,6 +19,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 import xarray as xr
 
+from . import ensembles
 from .errors import ConfigError
 from .io import read_yaml
 from .measure import half_reduction_length as half_reduction_length_of
@@ -64,8 +65,10 @@ class Evidence:
         names = sorted(k.split("/", 1)[1] for k in self.sims if k.startswith(figure + "/"))
         if not names:
             raise ClaimError(f"claim {claim!r} needs the simulations of figure {figure!r} (results/sims/{figure}/)")
-        if isinstance(scene, int):
-            key = f"{figure}/{_by_length(self.sims, figure, names)[scene]}"
+        if isinstance(scene, int):      # the scene's place by length; an ensemble counts once, by its lowest seed
+            shown = [m[0] for m in ensembles.by_base(
+                names, {n: int(self.sims[f"{figure}/{n}"].attrs.get("seed", 0)) for n in names}).values()]
+            key = f"{figure}/{_by_length(self.sims, figure, shown)[scene]}"
         else:
             key = f"{figure}/{scene}"
         if key not in self.sims:

@@ -66,6 +66,22 @@ def group(names: Sequence[str], attrs: Mapping[str, Mapping[str, object]], param
     return [sorted(g, key=lambda n: int(attrs[n].get("seed", 0))) for g in groups.values()]
 
 
+def base_name(name: str, seed: int) -> str:
+    """The config's scene name of an ensemble member ``<scene>-s<seed>`` (the names
+    :func:`confined_rod.pipeline.expand_ensembles` gives); any other name as it is."""
+    suffix = f"-s{seed}"
+    return name[:-len(suffix)] if name.endswith(suffix) and len(name) > len(suffix) else name
+
+
+def by_base(names: Sequence[str], seeds: Mapping[str, int]) -> dict[str, list[str]]:
+    """Members grouped by their config scene name (:func:`base_name`), in the order of the
+    first member, members by seed: the first of each list is the ensemble's lowest seed."""
+    out: dict[str, list[str]] = {}
+    for n in names:
+        out.setdefault(base_name(n, int(seeds[n])), []).append(n)
+    return {b: sorted(m, key=lambda n: int(seeds[n])) for b, m in out.items()}
+
+
 class Padded:
     """Members of several ensembles (groups of scene ids) as rectangular arrays: row i holds
     group i's members, padded to the largest group; ``has`` is 1 where a member exists."""

@@ -262,7 +262,11 @@ def check_schema(config: dict[str, Any], schema_path: str | Path = SCHEMA) -> No
         return
     where = ".".join(str(p) for p in error.absolute_path) or "top level"
     if error.validator in ("additionalProperties", "unevaluatedProperties"):
-        allowed = sorted(error.schema.get("properties", {}))
+        allowed = set(error.schema.get("properties", {}))
+        kind = error.instance.get("kind") if isinstance(error.instance, dict) else None
+        if kind in kinds.kinds():       # a figure entry: its kind's options are allowed too
+            allowed |= set(getattr(kinds.get(kind), "OPTIONS", {}))
+        allowed = sorted(allowed)
         extra = sorted(set(error.instance) - set(allowed)) if isinstance(error.instance, dict) else []
         detail = (f"unknown key {shorten(extra[0]) if extra else '?'}"
                   + (f"; allowed here: {', '.join(allowed)}" if allowed else ""))
@@ -357,6 +361,7 @@ def validate(config: dict[str, Any]) -> None:
         if kind not in kinds.kinds():
             raise ConfigError(f"figures.{f}.kind: {kind!r} is not one of {', '.join(kinds.kinds())}")
         module = kinds.get(kind)
+        read_figures(config, f)
         if hasattr(module, "validate_config"):  # kinds whose scenes may be invalid on purpose
             module.validate_config(f, fig, Scene.field_names())
             continue
@@ -375,9 +380,31 @@ def _extra(module, config, figure) -> dict[str, Any]:
 
 
 def context(config: dict[str, Any], figure: str) -> dict[str, Any]:
-    """What a figure's dataset builder needs from the config beyond its own entry."""
+    """What a figure's dataset builder needs from the config beyond its own entry (the
+    datasets of the figures it reads are added by the postprocess rule: ``datasets``)."""
     fig = config["figures"][figure]
     return {"publication_value": publication_value(config, figure)} if "parameter" in fig else {}
+
+
+def read_figures(config: dict[str, Any], figure: str) -> dict[str, str]:
+    """Other figures whose datasets this figure's builder reads (the kind's ``READS``):
+    figure name -> dataset file. ConfigError if a named figure is missing or of a kind the
+    option does not accept."""
+    fig = config["figures"][figure]
+    out: dict[str, str] = {}
+    for option, accepted in getattr(kinds.get(fig["kind"]), "READS", {}).items():
+        name = fig.get(option)
+        if name is None:
+            continue
+        other = config["figures"].get(name)
+        if other is None or name == figure:
+            raise ConfigError(f"figures.{figure}.{option}: {name!r} is not another figure of this config "
+                              f"(figures: {', '.join(figures(config))})")
+        if other.get("kind") not in accepted:
+            raise ConfigError(f"figures.{figure}.{option}: figure {name!r} is of kind {other.get('kind')!r}; "
+                              f"expected {' or '.join(accepted)}")
+        out[name] = dataset_path(name)
+    return out
 
 
 def caption(config: dict[str, Any], figure: str) -> str:

@@ -236,6 +236,38 @@ _Q = SCENE_PARAMETERS + [
     Quantity("F_min", r"\min|F_z(L)|", "smallest transmitted force in the ensemble", "EI R-2"),
     Quantity("F_max", r"\max|F_z(L)|", "largest transmitted force in the ensemble", "EI R-2"),
     Quantity("state_class_name", "", "final-state class: helix, planar, defects", "1"),
+    # jamming map
+    Quantity("fraction_model", "F(L)/F(0)", "transmitted fraction of the corrected simple model, "
+             "1/(1 + k_fr R L F0/(4EI))", "1"),
+    Quantity("L_half", "L_{1/2}", "rod length at which the transmitted fraction first falls below 1/2 (see "
+             "L_half_how)", "R"),
+    Quantity("L_half_how", "", "how L_half was found: interpolated, or a bound where the grid does not bracket it",
+             "1"),
+    Quantity("L_half_model", "L_{1/2}", "L_half of the corrected simple model, 4EI/(k_fr R F0)", "R"),
+    Quantity("boundary_load_lo", "F_{fold}", "largest load at which the rod still formed a helix (Fig 8 bisection, "
+             "lower end)", "EI R-2"),
+    Quantity("boundary_load_hi", "F_{fold}", "smallest load at which the rod folded or escaped (Fig 8 bisection, "
+             "upper end)", "EI R-2"),
+    Quantity("boundary_free_span", "g/R", "free span above the pore entrance of the threshold run (0: closed "
+             "entrance, the rod can only fold)", "1"),
+    Quantity("fraction_member", "|F_z(L)|/|F_z(0)|", "transmitted fraction of each ensemble member (0 where "
+             "has_member is 0)", "1"),
+    Quantity("fraction_std", r"\sigma", "ensemble standard deviation of the transmitted fraction (ddof = 1; 0 for "
+             "one member)", "1"),
+    Quantity("fraction_sem", r"\sigma/\sqrt{n}", "standard error of the ensemble mean of the transmitted fraction",
+             "1"),
+    Quantity("fraction_min", r"\min F(L)/F(0)", "smallest transmitted fraction in the ensemble", "1"),
+    Quantity("fraction_max", r"\max F(L)/F(0)", "largest transmitted fraction in the ensemble", "1"),
+    Quantity("transmitted_fraction_shown", "|F_z(L)|/|F_z(0)|", "transmitted fraction of the shown member (lowest "
+             "seed)", "1"),
+    Quantity("shown_seed", r"\mathrm{seed}", "seed of the member whose profile and fit the panel shows", "1"),
+    Quantity("fit_c_member", "c", "exponent of our fit to each ensemble member (0 where has_fit_member is 0)", "1"),
+    Quantity("has_fit_member", "", "1 where the member has a wall-contact stretch that was fitted", "1"),
+    Quantity("fit_c_mean", r"\langle c\rangle", "ensemble mean of the fitted exponent (members with a fit)", "1"),
+    Quantity("fit_c_std", r"\sigma_c", "ensemble standard deviation of the fitted exponent (members with a fit)",
+             "1"),
+    Quantity("F_abs_min", r"\min|F_z(s)|", "smallest |F_z(s)| over the ensemble's members at each joint", "EI R-2"),
+    Quantity("F_abs_max", r"\max|F_z(s)|", "largest |F_z(s)| over the ensemble's members at each joint", "EI R-2"),
     Quantity("n_class", "n", "members of the ensemble ending in each final-state class", "1"),
     # Fig 1: shapes
     Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),

@@ -77,6 +77,11 @@ def figure_code(wildcards):
     return STYLE_CODE + kind_code(wildcards)
 
 
+def read_datasets(wildcards):
+    """Datasets of other figures this figure's builder reads (e.g. Fig 8's thresholds)."""
+    return list(pipeline.read_figures(config, wildcards.figure).values())
+
+
 def build_context(wildcards):
     """What the figure's dataset builder needs from the config beyond its own entry."""
     return pipeline.context(config, wildcards.figure)

@@ -2,6 +2,7 @@ rule postprocess:
     """Collect a figure's scenes into the dataset the figure plots (with fits and analytic curves)."""
     input:
         sims=scene_sims,
+        datasets=read_datasets,
         code=postprocess_code,
     output:
         "results/datasets/{figure}.nc",
@@ -9,6 +10,7 @@ rule postprocess:
         figure_config=lambda wildcards: config["figures"][wildcards.figure],
         scenes=lambda wildcards: pipeline.scenes(config, wildcards.figure),
         context=build_context,
+        read=lambda wildcards: list(pipeline.read_figures(config, wildcards.figure)),
     log:
         "results/logs/postprocess/{figure}.log",
     benchmark:

@@ -10,7 +10,9 @@ from confined_rod.io import logged, write_dataset
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     sims = {name: xr.load_dataset(path)
             for name, path in zip(snakemake.params.scenes, snakemake.input.sims)}  # noqa: F821
+    read = {name: xr.load_dataset(path)
+            for name, path in zip(snakemake.params.read, snakemake.input.datasets)}  # noqa: F821
     ds = postprocess.build(snakemake.wildcards.figure, snakemake.params.figure_config, sims,  # noqa: F821
-                           context=snakemake.params.context)  # noqa: F821
+                           context={**snakemake.params.context, "datasets": read})  # noqa: F821
     write_dataset(ds, snakemake.output[0])  # noqa: F821
     print(ds)

@@ -12,6 +12,9 @@ A kind module holds everything about one kind of figure:
     caption(figure, fig_cfg, built)    what the figure shows (the pipeline adds the title
                                        and the common parameters)
     build(fig_cfg, sims, context)      scene id -> scene dataset  =>  the figure's dataset
+    READS     optional: {option: kinds}, options that name another figure of the config
+              whose dataset the builder reads (context["datasets"][name]); e.g. the
+              jamming map's measured fold/escape thresholds from the Fig 8 figure
     plot(ds)                           the figure's dataset  =>  a matplotlib Figure
 
 Adding a kind is one new module here and its entry in a config (then regenerate the

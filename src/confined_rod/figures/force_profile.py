@@ -7,6 +7,12 @@ and, where the config gives them (``paper_fits``), the paper's printed fit param
 and curve, with the deviation between the paper's curve and ours stored in the dataset:
 the rms of ln(f_paper/|F_z|) over the contact stretch, and the transmitted fraction
 F(L)/F(0) from our data, from our fit and from the printed fit.
+
+A panel may be a seed ensemble (``seeds:``; confined_rod.ensembles). Its profile, fit and
+shape variables are then those of the member with the lowest seed (``shown_seed``), the
+member that a single-seed config runs; the transmitted force and fraction are the ensemble
+means, with every member's fraction, fitted exponent and final state, the statistics, and
+the range of |F_z(s)| over the members.
 """
 from __future__ import annotations
 
@@ -14,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from .. import plotting as P
-from .. import theory
+from .. import ensembles, theory
 from ..errors import ConfigError
 from ..fits import PARAMS, FitError, fit_power_law, power_law
 from ..io import variable
@@ -38,7 +44,9 @@ OPTIONS = {
 }
 
 
+ENSEMBLE_BAND = "#b9d7ea"  # range of |F_z(s)| over a panel's seeds
 MIN_CONTACT = 5  # links on the wall below which a profile is not a wall-contact helix
+ENSEMBLES = True
 
 
 def varied(fig_cfg) -> tuple[str, ...]:
@@ -51,15 +59,27 @@ def validate(figure, fig_cfg, built) -> None:
     sc = next(iter(built.values()))
     if p is not None and p not in type(sc).field_names():
         raise ConfigError(f"figures.{figure}.panel_parameter: {p!r} is not a Scene field")
-    same_except(figure, built, varied(fig_cfg), f"the panels of a force-profile figure differ only in "
-                                                f"panel_parameter ({p!r})")
-    if p and len({getattr(s, p) for s in built.values()}) != len(built):
+    panels = _panels(built)
+    same_except(figure, panels, varied(fig_cfg), f"the panels of a force-profile figure differ only in "
+                                                 f"panel_parameter ({p!r})")
+    if p and len({getattr(s, p) for s in panels.values()}) != len(panels):
         raise ConfigError(f"figures.{figure}.scenes: two panels have the same {p} value")
-    check_scene_keys(figure, "paper_fits", fig_cfg.get("paper_fits"), built)
+    for members in ensembles.by_base(list(built), {n: s.seed for n, s in built.items()}).values():
+        same_except(figure, {m: built[m] for m in members}, ("seed",),
+                    "the members of a panel's seed ensemble differ only in the seed")
+    check_scene_keys(figure, "paper_fits", fig_cfg.get("paper_fits"), panels)
+
+
+def _panels(built) -> dict:
+    """Panel name (the config's scene name) -> the Scene of its shown member (lowest seed)."""
+    groups = ensembles.by_base(list(built), {n: s.seed for n, s in built.items()})
+    return {b: built[m[0]] for b, m in groups.items()}
 
 
 def caption(figure, fig_cfg, built) -> str:
     p = fig_cfg.get("panel_parameter")
+    n_members = len(built)
+    built = _panels(built)
     sc = next(iter(built.values()))
     body = f"Axial force |F_z(s)| along the rod (s from the loaded end), L/R = {sc.L:g}"
     if p:
@@ -71,6 +91,11 @@ def caption(figure, fig_cfg, built) -> str:
              f"trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; values and standard errors in the "
              "panel and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
              "from the first wall contact s_h; grey dotted: the same with the paper's 2EI.")
+    if n_members > len(built):
+        n = n_members / len(built)
+        body += (f" Each panel is a seed ensemble of {n:g} runs: the black profile and the fit are those of the "
+                 "lowest seed, the light blue band the range of |F_z(s)| over the seeds, and F(L)/F(0) and c are given as "
+                 "the ensemble mean +- standard deviation (every member in the dataset).")
     if fig_cfg.get("paper_fits"):
         body += (" Orange dash-dotted: the paper's printed fit (its A, l0', c in the panel); F(L)/F(0) is the "
                  "transmitted fraction of our rod and of the printed fit, f(L)/f(0). The difference is a result, "
@@ -82,6 +107,98 @@ def caption(figure, fig_cfg, built) -> str:
 
 
 def build(fig_cfg, sims, context=None) -> xr.Dataset:
+    panels = ensembles.by_base(list(sims), {n: int(sims[n].attrs.get("seed", 0)) for n in sims})
+    ds = _build(fig_cfg, {b: sims[m[0]] for b, m in panels.items()})
+    if any(len(m) > 1 for m in panels.values()):
+        ds = _add_ensemble(ds, fig_cfg, panels, sims)
+    return ds
+
+
+def _fit_window(d: xr.Dataset, trim: float):
+    """The wall-contact stretch (s_h, s_e), the fit window (joints) and |F_z| at s_h."""
+    s = d["s"].values
+    L = float(d.attrs["L"])
+    F = np.abs(d["F_z"].values)
+    s_h, s_e = contact_range(d)
+    tiny = 1e-9 * L  # s_h, s_e are joints: include them despite rounding
+    window = (s >= s_h + trim - tiny) & (s <= s_e - trim + tiny)
+    return s_h, s_e, window, float(np.interp(s_h, s, F))
+
+
+def _fit(d: xr.Dataset, trim: float):
+    """Our fit A (l0' + s)^c of |F_z(s)| over the wall-contact stretch of one run."""
+    R, EI, k_fr = (float(d.attrs[k]) for k in ("R", "EI", "k_fr"))
+    s = d["s"].values
+    F = np.abs(d["F_z"].values)
+    s_h, _, window, F_h = _fit_window(d, trim)
+    guess_A = 4 * EI / (k_fr * R) if k_fr > 0 else F_h
+    guess_l0 = max(4 * EI / (k_fr * R * F_h) - s_h, 1.0) if k_fr > 0 else 1.0
+    return fit_power_law(s[window], F[window], guess=(guess_A, guess_l0, -1.0))
+
+
+def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -> xr.Dataset:
+    """The ensemble of each panel: members' transmitted fraction, exponent and final state,
+    their statistics, and the range of the profiles; the panel's transmitted force and
+    fraction become ensemble means (those of the shown member are kept)."""
+    trim = float(fig_cfg.get("fit_trim", 0.0))
+    pad = ensembles.Padded(list(panels.values()), sims)
+    has = pad.has
+    frac = pad.values(lambda d: float(d["F_transmitted"]) / float(d.attrs["load"]))
+    force = pad.values(lambda d: float(d["F_transmitted"]))
+    cls = pad.values(lambda d: float(ensembles.CLASSES.index(ensembles.final_class(d))))
+
+    def exponent(d):
+        if int(d["contact"].sum()) < MIN_CONTACT:
+            return np.nan          # no wall-contact stretch to fit: flagged by has_fit_member
+        try:
+            return float(_fit(d, trim).c)
+        except FitError:
+            return np.nan
+    c = pad.values(exponent)
+    has_fit = (np.isfinite(c) & (has == 1)).astype(np.int8)
+    c = np.where(has_fit == 1, c, 0.0)
+    st = [ensembles.stats(frac[i, has[i] == 1]) for i in range(len(panels))]
+    cst = [ensembles.stats(c[i, has_fit[i] == 1]) if has_fit[i].any() else None for i in range(len(panels))]
+    profiles = [np.abs(np.stack([sims[m]["F_z"].values for m in members])) for members in panels.values()]
+
+    P = ("panel",)
+    ds["transmitted_fraction_shown"] = variable(P, ds["transmitted_fraction"].values, "transmitted_fraction_shown")
+    ds["transmitted_fraction"] = variable(P, [x.mean for x in st], "transmitted_fraction")
+    ds["transmitted_fraction"].attrs["long_name"] += " (ensemble mean)"
+    ds["F_transmitted"] = variable(P, [float(np.mean(force[i, has[i] == 1])) for i in range(len(panels))],
+                                   "F_transmitted")
+    ds["F_transmitted"].attrs["long_name"] += " (ensemble mean)"
+    ds["converged"] = variable(P, np.int8(pad.values(lambda d: float(d["converged"]), 1.0).min(axis=1)), "converged")
+    ds["shown_seed"] = variable(P, [int(sims[m[0]].attrs.get("seed", 0)) for m in panels.values()], "shown_seed")
+    ds["n_seeds"] = variable(P, [x.n for x in st], "n_seeds")
+    for name, field in (("fraction_std", "std"), ("fraction_sem", "sem"), ("fraction_min", "min"),
+                        ("fraction_max", "max")):
+        ds[name] = variable(P, [getattr(x, field) for x in st], name)
+    ds["fit_c_mean"] = variable(P, [x.mean if x else 0.0 for x in cst], "fit_c_mean")
+    ds["fit_c_std"] = variable(P, [x.std if x else 0.0 for x in cst], "fit_c_std")
+    PM = ("panel", "member")
+    ds["fraction_member"] = variable(PM, frac, "fraction_member")
+    ds["fit_c_member"] = variable(PM, c, "fit_c_member")
+    ds["has_fit_member"] = variable(PM, has_fit, "has_fit_member")
+    ds["member_seed"] = variable(PM, pad.values(lambda d: float(d.attrs["seed"])).astype(np.int64), "member_seed")
+    ds["has_member"] = variable(PM, has, "has_member")
+    ds["member_class"] = variable(PM, cls.astype(np.int8), "member_class")
+    ds["member_class"].attrs.update({"flag_values": np.arange(len(ensembles.CLASSES), dtype=np.int8),
+                                     "flag_meanings": " ".join(ensembles.CLASSES)})
+    ds["n_class"] = variable(("panel", "state_class_name"),
+                             [[int(((cls[i] == k) & (has[i] == 1)).sum()) for k in range(len(ensembles.CLASSES))]
+                              for i in range(len(panels))], "n_class")
+    ds["F_abs_min"] = variable(("panel", "joint"), [f.min(axis=0) for f in profiles], "F_abs_min")
+    ds["F_abs_max"] = variable(("panel", "joint"), [f.max(axis=0) for f in profiles], "F_abs_max")
+    ds = ds.assign_coords(member=variable(("member",), np.arange(has.shape[1]), "member"),
+                          state_class_name=variable(("state_class_name",), np.array(ensembles.CLASSES, dtype=object),
+                                                    "state_class_name"))
+    ds.attrs["ensemble"] = ("profile, fit and shape variables: the member with the lowest seed (shown_seed); "
+                            "F_transmitted, transmitted_fraction: ensemble means; converged: all members")
+    return ds
+
+
+def _build(fig_cfg, sims) -> xr.Dataset:
     p = fig_cfg.get("panel_parameter")
     trim = float(fig_cfg.get("fit_trim", 0.0))
     printed = fig_cfg.get("paper_fits") or {}
@@ -103,14 +220,9 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
                              f"{int(d['converged'])}, tol_effective = {d.attrs.get('tol_effective', '?')}): not a "
                              "helix on the wall but the straight or planar saddle the run stopped on (docs/model.md, "
                              "'Caveat: saddles'); raise its perturbation or lower tol")
-        s_h, s_e = contact_range(d)
-        tiny = 1e-9 * L  # s_h, s_e are joints: include them despite rounding
-        window = (s >= s_h + trim - tiny) & (s <= s_e - trim + tiny)
-        F_h = float(np.interp(s_h, s, F))
-        guess_A = 4 * EI / (k_fr * R) if k_fr > 0 else F_h
-        guess_l0 = max(4 * EI / (k_fr * R * F_h) - s_h, 1.0) if k_fr > 0 else 1.0
+        s_h, s_e, window, F_h = _fit_window(d, trim)
         try:
-            f = fit_power_law(s[window], F[window], guess=(guess_A, guess_l0, -1.0))
+            f = _fit(d, trim)
         except FitError as e:
             raise FitError(f"scene {name!r}: {e}") from e
         rows["F_abs"].append(F)
@@ -193,7 +305,11 @@ def plot(ds: xr.Dataset):
         d = ds.isel(panel=i)
         w = d["in_fit"].values == 1
         ax.axvspan(float(d.s_h), float(d.s_end), color="0.93", zorder=0, lw=0, label="wall contact")
-        ax.plot(s, d["F_abs"], lw=2.2, **P.SIM, label="simulation")
+        if "F_abs_min" in ds:
+            ax.fill_between(s, d["F_abs_min"], d["F_abs_max"], color=ENSEMBLE_BAND, lw=0, zorder=1,
+                            label=f"range over {int(d.n_seeds)} seeds")
+        ax.plot(s, d["F_abs"], lw=2.2, **P.SIM,
+                label="simulation" if "shown_seed" not in ds else "simulation, lowest seed")
         ax.plot(s[w], d["F_fit"].values[w], **P.FIT, label=r"our fit $A\,(l_0'+s)^c$")
         ax.plot(s, d["F_simple"], **P.MODEL, label=r"simple model, $K = RF^2/(4EI)$")
         ax.plot(s, d["F_simple_paper"], **P.PAPER, label=r"paper's form, $K = RF^2/(2EI)$")
@@ -201,6 +317,11 @@ def plot(ds: xr.Dataset):
                 f"$l_0' = {float(d.fit_l0):.3g} \\pm {float(d.fit_l0_err):.2g}\\,R$\n"
                 f"$c = {float(d.fit_c):.3f} \\pm {float(d.fit_c_err):.3f}$\n"
                 f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f}$")
+        if "shown_seed" in ds:
+            text = (f"$A = {float(d.fit_A):.3g}$, $l_0' = {float(d.fit_l0):.3g}\\,R$\n"
+                    f"$c = {float(d.fit_c):.3f}$; seeds: ${float(d.fit_c_mean):.3f} \\pm {float(d.fit_c_std):.3f}$\n"
+                    f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f} \\pm {float(d.fraction_std):.3f}$\n"
+                    f"(mean $\\pm$ s.d. of {int(d.n_seeds)} seeds)")
         ax.text(0.04, 0.04, text, transform=ax.transAxes, ha="left", va="bottom", fontsize=7, color=P.FIT["color"])
         if int(d.has_paper_fit):
             ax.plot(s, d["F_paper_fit"], **P.PAPER_FIT, label="paper's printed fit")

@@ -10,7 +10,10 @@ the final state's winding, and the corrected simple model beside it:
 F(L)/F(0) = 1/(1 + k_fr R L F0/(4EI)), which falls to 1/2 at L_half = 4EI/(k_fr R F0). It
 also holds the measured L_half(load, k_fr) (measure.half_reduction_length; a bound where the
 grid does not bracket it) and the largest load a helix on the wall can carry,
-4/(3 sqrt 3) EI/R^2, above which the rod folds or escapes instead (docs/model.md, "Fig 8").
+4/(3 sqrt 3) EI/R^2. Where the config names a Fig 8 figure (``thresholds``, kind escape),
+it holds that figure's measured loads above which the rod folds (closed entrance) or a loop
+escapes (open entrance) instead of forming a helix, against L/R: the map's upper boundary,
+drawn in the last panel, the (L/R, load) plane, beside the measured and modelled L_half.
 """
 from __future__ import annotations
 
@@ -32,7 +35,10 @@ OPTIONS = {
                                 "uniqueItems": True} for k in AXES},
              "description": "the map's axes: rod lengths L [R], loads |F_z(0)| [EI/R^2] and friction coefficients "
                             "k_fr; one scene per combination"},
+    "thresholds": {"type": "string", "description": "a figure of kind escape (Fig 8) whose measured fold/escape "
+                   "thresholds draw the map's upper boundary (its dataset is read, not rerun)"},
 }
+READS = {"thresholds": ("escape",)}
 HOW = ("interpolated", "upper bound", "lower bound")
 
 
@@ -79,8 +85,13 @@ def caption(figure, fig_cfg, built) -> str:
             + ("" if n <= 1 else f"; symbols the mean over {n:g} seeds, error bars one standard deviation")
             + "; dashed: the corrected simple model 1/(1 + k_fr R L F0/(4EI)); grey line: one half. Last panel: the "
             "length L_half at which the fraction first falls below 1/2 against the load, measured (symbols; open: a "
-            "bound, the grid does not bracket it) and from the simple model, 4EI/(k_fr R F0) (lines); the grey band "
-            "marks loads above 4/(3 sqrt 3) EI/R^2, which no helix on the wall can carry.")
+            "bound, the grid does not bracket it) and from the simple model, 4EI/(k_fr R F0) (lines), in the (L/R, load) "
+            "plane: left of a curve the rod passes more than half the load, right of it less; dotted: "
+            "4/(3 sqrt 3) EI/R^2, the largest load a helix on the wall can carry"
+            + ("" if not fig_cfg.get("thresholds") else
+               f"; red: the loads above which the rod folds instead of coiling (closed entrance, as the map's "
+               f"rods), measured in {fig_cfg['thresholds']} (bars: the bisection bracket), grey above them; the "
+               "open-entrance escape thresholds are in the dataset") + ".")
 
 
 def build(fig_cfg, sims, context=None) -> xr.Dataset:
@@ -126,30 +137,45 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
         "fraction": xr.Variable(dims, mean, attrs={**attrs("transmitted_fraction"),
                                                    "long_name": "transmitted fraction |F_z(L)|/|F_z(0)| (ensemble "
                                                                 "mean where the point has several seeds)"}),
-        "fraction_std": xr.Variable(dims, std, attrs={"units": "1", "long_name": "standard deviation of the "
-                                                      "transmitted fraction over the seeds (0 for one seed)"}),
-        "fraction_member": xr.Variable(dims + ("member",), frac, attrs={"units": "1", "long_name": "transmitted "
-                                       "fraction of each seed (0 where has_member is 0)"}),
+        "fraction_std": variable(dims, std, "fraction_std"),
+        "fraction_member": variable(dims + ("member",), frac, "fraction_member"),
         "has_member": variable(dims + ("member",), has, "has_member"),
         "n_turns": variable(dims, turns, "n_turns"),
         "converged": variable(dims, converged, "converged"),
         "escaped": variable(dims, escaped, "escaped"),
-        "fraction_model": xr.Variable(("load", "k_fr", "L_model"), model,
-                                      attrs={"units": "1", "long_name": "transmitted fraction of the corrected simple "
-                                             "model, 1/(1 + k_fr R L F0/(4EI))"}),
-        "L_half": xr.Variable(("load", "k_fr"), half, attrs={"units": "R", "long_name": "rod length at which the "
-                              "transmitted fraction first falls below 1/2 (see L_half_how)"}),
-        "L_half_how": xr.Variable(("load", "k_fr"), how, attrs={"units": "1", "long_name": "how L_half was found",
-                                  "flag_values": np.arange(len(HOW), dtype=np.int8),
-                                  "flag_meanings": " ".join(h.replace(" ", "_") for h in HOW)}),
-        "L_half_model": xr.Variable(("load", "k_fr"), half_model, attrs={"units": "R", "long_name":
-                                    "L_half of the corrected simple model, 4EI/(k_fr R F0)"}),
+        "fraction_model": variable(("load", "k_fr", "L_model"), model, "fraction_model"),
+        "L_half": variable(("load", "k_fr"), half, "L_half"),
+        "L_half_how": variable(("load", "k_fr"), how, "L_half_how"),
+        "L_half_model": variable(("load", "k_fr"), half_model, "L_half_model"),
     }
+    data["L_half_how"].attrs.update({"flag_values": np.arange(len(HOW), dtype=np.int8),
+                                     "flag_meanings": " ".join(h.replace(" ", "_") for h in HOW)})
     coords = {"L": variable(("L",), g["L"], "L"), "load": variable(("load",), g["load"], "load"),
               "k_fr": variable(("k_fr",), g["k_fr"], "k_fr"), "L_model": variable(("L_model",), L_model, "L_model"),
               "member": variable(("member",), np.arange(n_max), "member")}
     ds = xr.Dataset(data, coords=coords)
     ds.attrs["helix_limit"] = theory.helix_load_limit(R, EI)
+    if fig_cfg.get("thresholds"):
+        ds = _with_boundary(ds, fig_cfg["thresholds"], (context or {}).get("datasets", {}))
+    return ds
+
+
+def _with_boundary(ds: xr.Dataset, name: str, datasets) -> xr.Dataset:
+    """The fold/escape thresholds of the Fig 8 dataset `name`, in units of EI/R^2 against
+    L/R: the loads above which a fresh run folds or escapes instead of forming a helix."""
+    if name not in datasets:
+        raise ValueError(f"jamming map: thresholds = {name!r}, but its dataset (results/datasets/{name}.nc) was "
+                         "not given to the builder")
+    e = datasets[name]
+    scale = e["threshold_R2_over_EI"].values
+    B = ("boundary",)
+    ds["boundary_load_lo"] = variable(B, e["threshold_lo"].values * scale, "boundary_load_lo")
+    ds["boundary_load_hi"] = variable(B, e["threshold_hi"].values * scale, "boundary_load_hi")
+    ds["boundary_escaped"] = variable(B, e["escaped_above"].values.astype(np.int8), "escaped_above")
+    ds["boundary_free_span"] = variable(B, e["free_span"].values / e["aspect_R"].values, "boundary_free_span")
+    ds = ds.assign_coords(boundary_aspect=variable(B, e["aspect"].values, "aspect"))
+    ds.attrs.update({"boundary_source": f"results/datasets/{name}.nc (threshold_lo, threshold_hi, escaped_above)",
+                     "boundary_git_commit": str(e.attrs.get("git_commit", "unknown"))})
     return ds
 
 
@@ -175,25 +201,43 @@ def plot(ds: xr.Dataset):
         ax.set_xlabel(label("L"))
         ax.set_ylabel(r"$|F_z(L)|/|F_z(0)|$")
         ax.set_title(rf"$k_{{fr}} = {k_frs[k]:g}$", fontsize=9)
-    ax = axes[0][-1]
-    markers = "osD^v"
-    for k, k_fr in enumerate(k_frs):
-        m = markers[k % len(markers)]
-        half, how = ds["L_half"].values[:, k], ds["L_half_how"].values[:, k]
-        exact = how == 0
-        ax.plot(loads[exact], half[exact], m, color="black", ms=5, label=rf"measured, $k_{{fr}} = {k_fr:g}$")
-        if (~exact).any():
-            ax.plot(loads[~exact], half[~exact], m, mfc="white", mec="black", ms=5)
-        ax.plot(loads, ds["L_half_model"].values[:, k], "--", color="tab:blue", lw=1.0 + 0.4 * k,
-                label=rf"model, $k_{{fr}} = {k_fr:g}$")
-    ax.axvspan(float(ds.attrs["helix_limit"]), max(loads.max(), float(ds.attrs["helix_limit"])) * 1.5, color="0.85",
-               lw=0, label="no helix on the wall")
-    P.log_axes(ax)
-    ax.set_xlabel(label("load"))
-    ax.set_ylabel(r"$L_{1/2}$ [$R$]")
-    ax.set_title("half reduction", fontsize=9)
-    ax.legend(fontsize=6.5, loc="upper right")
+    _plane(axes[0][-1], ds)
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, -0.01), fontsize=7.5)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     return fig
+
+
+def _plane(ax, ds: xr.Dataset) -> None:
+    """The map in the (L/R, load) plane: L_half(load) measured and modelled per k_fr, the
+    helix limit, and (where the dataset has them) the measured fold/escape thresholds."""
+    loads = ds["load"].values
+    markers = "osD^v"
+    for k, k_fr in enumerate(ds["k_fr"].values):
+        m = markers[k % len(markers)]
+        half, how = ds["L_half"].values[:, k], ds["L_half_how"].values[:, k]
+        exact = how == 0
+        ax.plot(half[exact], loads[exact], m, color="black", ms=5, label=rf"$L_{{1/2}}$ measured, $k_{{fr}} = {k_fr:g}$")
+        if (~exact).any():
+            ax.plot(half[~exact], loads[~exact], m, mfc="white", mec="black", ms=5)
+        F = np.geomspace(loads.min() / 2, loads.max() * 4, 50)
+        ax.plot(4.0 / (k_fr * F), F, "--", color="tab:blue", lw=0.8 + 0.5 * k,
+                label=rf"$L_{{1/2}} = 4EI/(k_{{fr}} R F_0)$, $k_{{fr}} = {k_fr:g}$")
+    top = float(ds.attrs["helix_limit"])
+    ax.axhline(top, color="0.3", lw=0.8, ls=":", label=r"helix limit $4/(3\sqrt{3})\,EI/R^2$")
+    if "boundary_load_lo" in ds:
+        a = ds["boundary_aspect"].values
+        lo, hi = ds["boundary_load_lo"].values, ds["boundary_load_hi"].values
+        closed = ds["boundary_free_span"].values == 0    # the map's rods: closed entrance, they can only fold
+        if closed.any():
+            ax.errorbar(a[closed], 0.5 * (lo + hi)[closed], yerr=0.5 * (hi - lo)[closed], fmt="v", color="tab:red",
+                        ms=5, capsize=2, label="rod folds above (Fig 8)")
+            order = np.argsort(a[closed])
+            ax.fill_between(a[closed][order], lo[closed][order], 10 * top, color="0.88", lw=0, zorder=0)
+    P.log_axes(ax)
+    ax.set_xlim(0.7 * float(ds["L"].min()), 1.6 * float(ds["L"].max()))
+    ax.set_ylim(0.5 * loads.min(), 1.6 * top)
+    ax.set_xlabel(label("L"))
+    ax.set_ylabel(label("load"))
+    ax.set_title(r"map: $L_{1/2}$ and the fold boundary", fontsize=9)
+    ax.legend(fontsize=6, loc="lower left")
