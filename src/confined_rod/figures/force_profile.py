@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import plotting as P
 from .. import ensembles, theory
+from .. import plotting as P
 from ..errors import ConfigError
 from ..fits import PARAMS, FitError, fit_power_law, power_law
 from ..io import variable
@@ -94,8 +94,8 @@ def caption(figure, fig_cfg, built) -> str:
     if n_members > len(built):
         n = n_members / len(built)
         body += (f" Each panel is a seed ensemble of {n:g} runs: the black profile and the fit are those of the "
-                 "lowest seed, the light blue band the range of |F_z(s)| over the seeds, and F(L)/F(0) and c are given as "
-                 "the ensemble mean +- standard deviation (every member in the dataset).")
+                 "lowest seed, the light blue band the range of |F_z(s)| over the seeds, and F(L)/F(0) and c are "
+                 "given as the ensemble mean +- standard deviation (every member in the dataset).")
     if fig_cfg.get("paper_fits"):
         body += (" Orange dash-dotted: the paper's printed fit (its A, l0', c in the panel); F(L)/F(0) is the "
                  "transmitted fraction of our rod and of the printed fit, f(L)/f(0). The difference is a result, "

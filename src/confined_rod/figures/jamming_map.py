@@ -85,8 +85,8 @@ def caption(figure, fig_cfg, built) -> str:
             + ("" if n <= 1 else f"; symbols the mean over {n:g} seeds, error bars one standard deviation")
             + "; dashed: the corrected simple model 1/(1 + k_fr R L F0/(4EI)); grey line: one half. Last panel: the "
             "length L_half at which the fraction first falls below 1/2 against the load, measured (symbols; open: a "
-            "bound, the grid does not bracket it) and from the simple model, 4EI/(k_fr R F0) (lines), in the (L/R, load) "
-            "plane: left of a curve the rod passes more than half the load, right of it less; dotted: "
+            "bound, the grid does not bracket it) and from the simple model, 4EI/(k_fr R F0) (lines), in the "
+            "(L/R, load) plane: left of a curve the rod passes more than half the load, right of it less; dotted: "
             "4/(3 sqrt 3) EI/R^2, the largest load a helix on the wall can carry"
             + ("" if not fig_cfg.get("thresholds") else
                f"; red: the loads above which the rod folds instead of coiling (closed entrance, as the map's "
@@ -217,11 +217,13 @@ def _plane(ax, ds: xr.Dataset) -> None:
         m = markers[k % len(markers)]
         half, how = ds["L_half"].values[:, k], ds["L_half_how"].values[:, k]
         exact = how == 0
-        ax.plot(half[exact], loads[exact], m, color="black", ms=5, label=rf"$L_{{1/2}}$ measured, $k_{{fr}} = {k_fr:g}$")
+        ax.plot(half[exact], loads[exact], m, color="black", ms=5,
+                label=rf"$L_{{1/2}}$ measured, $k_{{fr}} = {k_fr:g}$")
         if (~exact).any():
             ax.plot(half[~exact], loads[~exact], m, mfc="white", mec="black", ms=5)
         F = np.geomspace(loads.min() / 2, loads.max() * 4, 50)
-        ax.plot(4.0 / (k_fr * F), F, "--", color="tab:blue", lw=0.8 + 0.5 * k,
+        L_half = -theory.critical_length(F, k_fr, float(ds.attrs.get("R", 1.0)), float(ds.attrs.get("EI", 1.0)))
+        ax.plot(L_half, F, "--", color="tab:blue", lw=0.8 + 0.5 * k,
                 label=rf"$L_{{1/2}} = 4EI/(k_{{fr}} R F_0)$, $k_{{fr}} = {k_fr:g}$")
     top = float(ds.attrs["helix_limit"])
     ax.axhline(top, color="0.3", lw=0.8, ls=":", label=r"helix limit $4/(3\sqrt{3})\,EI/R^2$")
