@@ -34,6 +34,12 @@ include: "workflow/rules/paper.smk"
 report: "workflow/report/workflow.rst"
 
 
+# run on the submitting host under a cluster executor (profiles/slurm): the paper needs TeX there
+localrules:
+    all,
+    paper,
+
+
 rule all:
     default_target: True
     input:

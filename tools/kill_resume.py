@@ -14,8 +14,8 @@ build with SIGKILL, then recovers as the README says:
 and compares every dataset (results/sims, probes, paths, datasets) and every check
 verdict with the reference: all data variables bitwise equal except run times
 (variables named wall_time), all attributes equal except run times (names
-containing wall_time), ``history`` (a timestamp) and ``git_commit`` (the copy is
-not a git checkout).  No temporary
+containing wall_time), ``history`` (a timestamp) and the git commits (``git_commit``,
+``scene_git_commits``, ``boundary_git_commit``: the copy is not a git checkout).  No temporary
 file may be left.  Writes a JSON summary to stdout; exit status 1 on any difference.
 """
 from __future__ import annotations
@@ -38,7 +38,7 @@ import xarray as xr
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 TIMING_VARIABLES = {"wall_time"}
-VOLATILE_ATTRS = {"history", "git_commit"}
+VOLATILE_ATTRS = {"history", "git_commit", "scene_git_commits", "boundary_git_commit"}
 
 
 def tracked_copy(dest: Path) -> None:

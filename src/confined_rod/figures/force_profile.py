@@ -325,9 +325,11 @@ def plot(ds: xr.Dataset):
         ax.text(0.04, 0.04, text, transform=ax.transAxes, ha="left", va="bottom", fontsize=7, color=P.FIT["color"])
         if int(d.has_paper_fit):
             ax.plot(s, d["F_paper_fit"], **P.PAPER_FIT, label="paper's printed fit")
-            ax.text(0.97, 0.04, f"paper: $A = {float(d.paper_fit_A):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$, "
+            # with an ensemble our block is wider: the paper's goes above it instead of beside it
+            x, y, ha = (0.04, 0.33, "left") if "shown_seed" in ds else (0.97, 0.04, "right")
+            ax.text(x, y, f"paper: $A = {float(d.paper_fit_A):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$, "
                     f"$c = {float(d.paper_fit_c):g}$\n$f(L)/f(0) = {float(d.paper_fit_fraction):.3f}$",
-                    transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color=P.PAPER_FIT["color"])
+                    transform=ax.transAxes, ha=ha, va="bottom", fontsize=7, color=P.PAPER_FIT["color"])
         ax.set_yscale("log")
         # shared y range: every curve, with room below them for the two text blocks
         low = min(float(ds["F_abs"].min()), float(ds["F_simple_paper"].min()))
@@ -351,7 +353,8 @@ def plot(ds: xr.Dataset):
             if lab not in labels:
                 handles.append(h)
                 labels.append(lab)
-    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4 if n > 1 else 2),
-               bbox_to_anchor=(0.5, -0.01))
-    fig.tight_layout(rect=(0, 0.15 if n == 1 else 0.1, 1, 1))
+    ncol = min(len(labels), 4 if n > 1 else 2)
+    fig.legend(handles, labels, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, -0.01))
+    rows = -(-len(labels) // ncol)
+    fig.tight_layout(rect=(0, (0.05 if n == 1 else 0.045) * rows, 1, 1))
     return fig
