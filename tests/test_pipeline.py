@@ -178,6 +178,8 @@ def test_captions_state_what_and_with_which_parameters():
     c4 = pipeline.caption(config, "fig4_Fonl")
     assert "paper Fig. 4" in c4 and "L/R = 320" in c4
     assert "(a) k_fr = 0.1; (b) k_fr = 0.3; (c) k_fr = 0.8" in c4
+    c_map = pipeline.caption(config, "jamming_map")     # a figure the original does not have
+    assert "(not in the paper)" in c_map and "paper Fig" not in c_map
 
 
 def test_logged_keeps_the_traceback(tmp_path):

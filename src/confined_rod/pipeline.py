@@ -413,7 +413,7 @@ def caption(config: dict[str, Any], figure: str) -> str:
     expand(config)
     fig = config["figures"][figure]
     module = kinds.get(fig["kind"])
-    head = f"{fig.get('title', figure)} (paper Fig. {fig.get('paper_figure', 'none')})."
+    head = f"{fig.get('title', figure)} {kinds.origin(fig)}."
     if hasattr(module, "validate_config"):
         return head + " " + module.caption(figure, fig)
     built = built_scenes(config, figure)

@@ -73,9 +73,12 @@ def _save(fig, path) -> None:
 
 def plain_log_ticks(axis) -> None:
     """Log axis with ticks written as plain numbers (0.05, 20, ...): at 1, 2, 5 x 10^n,
-    or at 1, 2, 3, 5 x 10^n when the axis spans less than a decade."""
+    or at 1, 2, 3, 5 x 10^n when the axis spans less than a decade. Over several decades, or
+    over more than one on an x axis whose plain labels are long (0.0002, 50000), only the
+    decades are labelled, as powers of ten: side by side such labels overlap."""
     lo, hi = axis.get_view_interval()
-    if hi / lo > 300:  # several decades: label the decades only, as powers of ten
+    long_x = axis.axis_name == "x" and (lo < 1e-2 or hi > 1e4)
+    if hi / lo > 300 or (long_x and hi / lo > 30):  # label the decades only, as powers of ten
         axis.set_major_locator(ticker.LogLocator(base=10))
         axis.set_major_formatter(ticker.LogFormatterSciNotation())
         axis.set_minor_locator(ticker.LogLocator(base=10, subs=np.arange(2, 10) * 1.0))

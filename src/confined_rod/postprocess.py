@@ -33,4 +33,4 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
         first = next(iter(sims.values()))
         varied = set(figures.varied(kind, fig_cfg))
         meta.update({k: first.attrs[k] for k in COMMON if k in first.attrs and k not in varied})
-    return finalize(ds, f"{fig_cfg.get('title', figure)} (paper Fig. {meta['paper_figure']})", meta)
+    return finalize(ds, f"{fig_cfg.get('title', figure)} {figures.origin(fig_cfg)}", meta)

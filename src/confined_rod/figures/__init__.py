@@ -56,3 +56,10 @@ def source(kind: str) -> str:
 def varied(kind: str, fig_cfg) -> tuple[str, ...]:
     fn = getattr(get(kind), "varied", None)
     return tuple(fn(fig_cfg)) if fn else ()
+
+
+def origin(fig_cfg) -> str:
+    """Where a figure comes from, for its title and caption: '(paper Fig. N)', or
+    '(not in the paper)' for the figures this package adds (convergence, benchmarks, maps)."""
+    n = fig_cfg.get("paper_figure")
+    return f"(paper Fig. {n})" if n is not None else "(not in the paper)"

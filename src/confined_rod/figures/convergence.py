@@ -25,6 +25,7 @@ build is the config's choice (``on_inconclusive``).
 from __future__ import annotations
 
 import math
+import textwrap
 from typing import Any, Mapping
 
 import numpy as np
@@ -355,9 +356,9 @@ def plot(ds: xr.Dataset):
         ax.set_xlabel(_H_LABEL[param])
         ax.set_ylabel(label(k))
     status = ds.attrs["status"]
-    short = status if len(status) < 70 else status[:67] + "..."
-    fig.suptitle(f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
-                 f"{short}\n" + P.params_text(ds, ("L", "load", "k_fr")), fontsize=9)
+    head = f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
+    lines = textwrap.wrap(head + status, width=95, max_lines=2, placeholder=" ... (full verdict in the caption)")
+    fig.suptitle("\n".join(lines + [P.params_text(ds, ("L", "load", "k_fr"))]), fontsize=9)
     if ensemble:        # five entries: two rows
         P.bottom_legend(fig, axes[0][0], bottom=0.16, ncol=3)
     else:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 import xarray as xr
+from matplotlib.lines import Line2D
 
 from .. import ensembles, theory
 from .. import plotting as P
@@ -182,7 +183,7 @@ def _with_boundary(ds: xr.Dataset, name: str, datasets) -> xr.Dataset:
 def plot(ds: xr.Dataset):
     k_frs = ds["k_fr"].values
     loads = ds["load"].values
-    fig, axes = P.plt.subplots(1, len(k_frs) + 1, figsize=(3.0 * (len(k_frs) + 1) + 0.3, 3.3), squeeze=False,
+    fig, axes = P.plt.subplots(1, len(k_frs) + 1, figsize=(3.0 * (len(k_frs) + 1) + 2.0, 3.3), squeeze=False,
                                label=ds.attrs["title"])
     colors = P.plt.get_cmap("viridis")(np.linspace(0.0, 0.85, len(loads)))
     L = ds["L"].values
@@ -203,6 +204,11 @@ def plot(ds: xr.Dataset):
         ax.set_title(rf"$k_{{fr}} = {k_frs[k]:g}$", fontsize=9)
     _plane(axes[0][-1], ds)
     handles, labels = axes[0][0].get_legend_handles_labels()
+    handles += [Line2D([], [], ls="--", color="black", lw=1.0), Line2D([], [], color="0.6", lw=0.8)]
+    labels += [r"corrected simple model $1/(1 + k_{fr} R L F_0/(4EI))$", "one half"]
+    if (ds["converged"].values != 1).any():
+        handles.append(Line2D([], [], ls="", marker="o", ms=4, mfc="white", mec="black"))
+        labels.append("open: not converged")
     fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, -0.01), fontsize=7.5)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     return fig
@@ -242,4 +248,8 @@ def _plane(ax, ds: xr.Dataset) -> None:
     ax.set_xlabel(label("L"))
     ax.set_ylabel(label("load"))
     ax.set_title(r"map: $L_{1/2}$ and the fold boundary", fontsize=9)
-    ax.legend(fontsize=6, loc="lower left")
+    handles, labels = ax.get_legend_handles_labels()
+    if (ds["L_half_how"].values != 0).any():
+        handles.append(Line2D([], [], ls="", marker="o", ms=5, mfc="white", mec="black"))
+        labels.append("open: a bound (grid does\nnot bracket $L_{1/2}$)")
+    ax.legend(handles, labels, fontsize=6.5, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
