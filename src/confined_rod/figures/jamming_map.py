@@ -227,6 +227,9 @@ def _plane(ax, ds: xr.Dataset) -> None:
                 label=rf"$L_{{1/2}}$ measured, $k_{{fr}} = {k_fr:g}$")
         if (~exact).any():
             ax.plot(half[~exact], loads[~exact], m, mfc="white", mec="black", ms=5)
+        for x, y, h in zip(half[~exact], loads[~exact], how[~exact]):   # arrow: where L_1/2 lies
+            ax.annotate("", xy=(x * (0.75 if HOW[h] == "upper bound" else 1.33), y), xytext=(x, y),
+                        arrowprops={"arrowstyle": "->", "lw": 0.8, "shrinkA": 4, "shrinkB": 0})
         F = np.geomspace(loads.min() / 2, loads.max() * 4, 50)
         L_half = -theory.critical_length(F, k_fr, float(ds.attrs.get("R", 1.0)), float(ds.attrs.get("EI", 1.0)))
         ax.plot(L_half, F, "--", color="tab:blue", lw=0.8 + 0.5 * k,
@@ -251,5 +254,5 @@ def _plane(ax, ds: xr.Dataset) -> None:
     handles, labels = ax.get_legend_handles_labels()
     if (ds["L_half_how"].values != 0).any():
         handles.append(Line2D([], [], ls="", marker="o", ms=5, mfc="white", mec="black"))
-        labels.append("open: a bound (grid does\nnot bracket $L_{1/2}$)")
+        labels.append("open: a bound, the grid does not\nbracket $L_{1/2}$ (arrow: where it lies)")
     ax.legend(handles, labels, fontsize=6.5, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
