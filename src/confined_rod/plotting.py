@@ -74,10 +74,11 @@ def _save(fig, path) -> None:
 def plain_log_ticks(axis) -> None:
     """Log axis with ticks written as plain numbers (0.05, 20, ...): at 1, 2, 5 x 10^n,
     or at 1, 2, 3, 5 x 10^n when the axis spans less than a decade. Over several decades, or
-    over more than one on an x axis whose plain labels are long (0.0002, 50000), only the
-    decades are labelled, as powers of ten: side by side such labels overlap."""
+    over more than one on an x axis whose plain labels are long (0.0002, 50000: six
+    characters or more), only the decades are labelled, as powers of ten: side by side such
+    labels overlap."""
     lo, hi = axis.get_view_interval()
-    long_x = axis.axis_name == "x" and (lo < 1e-2 or hi > 1e4)
+    long_x = axis.axis_name == "x" and (lo < 1e-3 or hi > 1e4)
     if hi / lo > 300 or (long_x and hi / lo > 30):  # label the decades only, as powers of ten
         axis.set_major_locator(ticker.LogLocator(base=10))
         axis.set_major_formatter(ticker.LogFormatterSciNotation())
