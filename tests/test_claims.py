@@ -140,17 +140,21 @@ def test_transmitted_decay_needs_a_continuing_decrease():
     assert not claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ds}), {"figure": "f"}, "x")[1]
 
 
-def test_wall_force_coefficient_of_an_ideal_helix_is_the_corrected_lowest_order():
-    # a helix carrying F with K = R F^2 / (4 EI (1 - R^2 w^2)) everywhere (the exact relation)
-    n, F = 40, 0.25
-    w2 = F / 2.0                                  # lowest order, enough for a constructed case
-    K = F**2 / 4.0
+def test_wall_force_coefficient_of_an_exact_helix_names_the_exact_relation():
+    # a torque-free constant-pitch helix: F = 2 EI w^2 sqrt(1 - R^2 w^2), K = EI R w^4, so
+    # K EI/(R F^2) = 1/(4 (1 - R^2 w^2)), 1/4 only to lowest order (docs/model.md)
+    n, w = 40, 0.5
+    F = 2 * w**2 * np.sqrt(1 - w**2)
+    K = w**4
+    s_link = (np.arange(n) + 0.5) * 0.5
     sim = xr.Dataset({"wall_force_density": ("link", np.full(n, K)), "F_z": ("joint", np.full(n + 1, -F)),
-                      "contact": ("link", np.ones(n, dtype=np.int8))},
+                      "contact": ("link", np.ones(n, dtype=np.int8)), "dphi_ds": ("helix", np.full(n, w))},
+                     coords={"s_link": ("link", s_link), "s_helix": ("helix", s_link)},
                      attrs={"R": 1.0, "EI": 1.0, "k_fr": 0.0, "L": 20.0, "l0": 0.5})
     ev = claims.Evidence({}, {"fig/L20": sim})
-    value, *_ = claims.MEASURES["wall_force_coefficient"](ev, {"figure": "fig"}, "x")
-    assert value == pytest.approx(0.25) and w2 > 0
+    value, holds, _, note = claims.MEASURES["wall_force_coefficient"](ev, {"figure": "fig"}, "x")
+    assert value == pytest.approx(1 / (4 * (1 - w**2)))          # 1/3, not 1/4 and not 1/2
+    assert note.endswith("The data confirm the exact constant-pitch relation")
     sim.attrs["k_fr"] = 0.8
     with pytest.raises(claims.ClaimError, match="k_fr = 0.8, needs 0"):
         claims.MEASURES["wall_force_coefficient"](ev, {"figure": "fig"}, "x")

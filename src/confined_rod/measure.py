@@ -41,6 +41,33 @@ def contact_range(sim: xr.Dataset) -> tuple[float, float]:
     return float(s.min() - half), float(s.max() + half)
 
 
+HELIX_RUN = 4  # links: a run of wall contacts at least this long is helix; shorter ones near an end are tips
+
+
+def helix_runs(contact: np.ndarray, run: int = HELIX_RUN) -> list[np.ndarray]:
+    """Link indices of the runs of at least `run` consecutive links on the wall, in order
+    from the loaded end (link 0)."""
+    idx = np.flatnonzero(np.asarray(contact) > 0)
+    if idx.size == 0:
+        return []
+    runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
+    return [r for r in runs if r.size >= run]
+
+
+def detached_lengths(sim: xr.Dataset, run: int = HELIX_RUN) -> tuple[float, float]:
+    """Arc lengths (loaded end, support end) over which the rod is detached from the wall:
+    from s = 0 (the loaded end, link 0) to the upper end of the first run of at least `run`
+    consecutive links on the wall, and from the lower end of the last such run to s = L.
+    Isolated tip contacts (shorter runs) do not count.  (L, L) if there is no such run."""
+    L = float(sim.attrs["L"])
+    runs = helix_runs(sim["contact"].values, run)
+    if not runs:
+        return L, L
+    s_link = np.asarray(sim["s_link"].values, dtype=float)
+    half = 0.5 * float(sim.attrs["l0"])
+    return float(s_link[runs[0][0]] - half), float(L - (s_link[runs[-1][-1]] + half))
+
+
 def euler_ratio(sim: xr.Dataset) -> float:
     """Load over Euler's critical force pi^2 EI/L^2 (the ratio the paper's captions quote)."""
     return float(sim.attrs["load"]) * float(sim.attrs["L"]) ** 2 / (np.pi**2 * float(sim.attrs["EI"]))

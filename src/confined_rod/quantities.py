@@ -187,6 +187,10 @@ _Q = SCENE_PARAMETERS + [
     Quantity("reversal", "", "a reversal of handedness (sign change of dphi/ds) lies between this link and the next",
              "1"),
     Quantity("s_reversal", "s", "arc length of a reversal of handedness (between two link centres)", "R"),
+    Quantity("exponent_omega_F_whole", r"d\ln\omega/d\ln|F_z|", "slope of ln|dphi/ds| against ln|F_z| over the "
+             "whole wall-contact stretch where the pitch is defined", "1"),
+    Quantity("exponent_omega_F_bulk", r"d\ln\omega/d\ln|F_z|", "slope of ln|dphi/ds| against ln|F_z| over the "
+             "bulk helix (confined_rod.regions) where the pitch is defined", "1"),
     Quantity("exponent_omega_F", "", "slope of ln|dphi/ds| against ln|F_z| over the contact stretch (1/2 if "
              "F_z ~ (dphi/ds)^2)", "1"),
     Quantity("drop_omega", "", "relative decrease of |dphi/ds| along the contact stretch (median of the first "
@@ -226,7 +230,8 @@ _Q = SCENE_PARAMETERS + [
     Quantity("has_member", "", "1 where the ensemble has this member (the values are 0 otherwise)", "1"),
     Quantity("member_seed", r"\mathrm{seed}", "random seed of the ensemble member's perturbation", "1"),
     Quantity("F_member", "|F_z(L)|", "force transmitted to the lower end by each ensemble member", "EI R-2"),
-    Quantity("member_class", "", "final state of each member: helix, planar or defects (helix with a reversal)",
+    Quantity("member_class", "", "final state of each member from its geometry (ensembles.final_class): helix, "
+             "planar, defects (helix with a reversal of handedness), straight or twisted (out of a plane, not coiled)",
              "1"),
     Quantity("n_seeds", "n", "members of the seed ensemble", "1"),
     Quantity("F_mean", r"\langle|F_z(L)|\rangle", "ensemble mean of the transmitted force", "EI R-2"),
@@ -235,7 +240,8 @@ _Q = SCENE_PARAMETERS + [
     Quantity("F_sem", r"\sigma/\sqrt{n}", "standard error of the ensemble mean of the transmitted force", "EI R-2"),
     Quantity("F_min", r"\min|F_z(L)|", "smallest transmitted force in the ensemble", "EI R-2"),
     Quantity("F_max", r"\max|F_z(L)|", "largest transmitted force in the ensemble", "EI R-2"),
-    Quantity("state_class_name", "", "final-state class: helix, planar, defects", "1"),
+    Quantity("state_class_name", "", "final-state class (ensembles.CLASSES): helix, planar, defects, straight, "
+             "twisted", "1"),
     # jamming map
     Quantity("fraction_model", "F(L)/F(0)", "transmitted fraction of the corrected simple model, "
              "1/(1 + k_fr R L F0/(4EI))", "1"),
@@ -269,6 +275,55 @@ _Q = SCENE_PARAMETERS + [
     Quantity("F_abs_min", r"\min|F_z(s)|", "smallest |F_z(s)| over the ensemble's members at each joint", "EI R-2"),
     Quantity("F_abs_max", r"\max|F_z(s)|", "largest |F_z(s)| over the ensemble's members at each joint", "EI R-2"),
     Quantity("n_class", "n", "members of the ensemble ending in each final-state class", "1"),
+    # the three regions of a loaded frictional rod and the local decay law (confined_rod.regions)
+    Quantity("region", "", "region of the rod at the link: 0 tip (loaded end), 1 bulk helix, 2 lower region", "1"),
+    Quantity("q_axial", "q", "axial wall friction over the largest the wall can give, f_z/min(k_fr N, f_cap l0), "
+             "running mean over 4 R", "1"),
+    Quantity("has_bulk", "", "1 where a bulk helix (axial friction at the limit over >= 8 R) was found", "1"),
+    Quantity("s_bulk_start", "s_b", "arc length where the bulk helix starts (end of the tip region)", "R"),
+    Quantity("s_bulk_end", "s_l", "arc length where the bulk helix ends (start of the lower region)", "R"),
+    Quantity("tip_length", "s_b", "length of the tip region at the loaded end", "R"),
+    Quantity("bulk_length", "s_l - s_b", "length of the bulk helix", "R"),
+    Quantity("lower_length", "L - s_l", "length of the lower region above the support", "R"),
+    Quantity("lower_q_mean", r"\langle q\rangle_{lower}", "mean axial friction utilisation over the lower region's "
+             "links on the wall", "1"),
+    Quantity("lower_force_drop", r"F(s_l)/F(L)", "|F_z| at the start of the lower region over |F_z(L)|", "1"),
+    Quantity("bulk_decay_rate", r"d(1/|F_z|)/ds", "local decay rate d(1/|F_z|)/ds fitted over the bulk helix",
+             "R EI-1"),
+    Quantity("bulk_decay_rate_err", r"\delta", "uncertainty of the bulk decay rate: max(standard error, half the "
+             "difference between the bulk's two halves)", "R EI-1"),
+    Quantity("whole_decay_rate", r"d(1/|F_z|)/ds", "decay rate d(1/|F_z|)/ds fitted over the whole wall-contact "
+             "stretch", "R EI-1"),
+    Quantity("whole_decay_rate_err", r"\delta", "uncertainty of the whole-stretch decay rate (as for the bulk)",
+             "R EI-1"),
+    Quantity("decay_rate_model", r"k_{fr}R/(4EI)", "local decay law of the corrected simple model, k_fr R/(4EI)",
+             "R EI-1"),
+    Quantity("decay_rate_paper", r"k_{fr}R/(2EI)", "local decay law with the paper's K = R F^2/(2EI), k_fr R/(2EI)",
+             "R EI-1"),
+    Quantity("decay_ratio", r"\frac{d(1/|F_z|)/ds}{k_{fr}R/(4EI)}", "bulk decay rate over the corrected law "
+             "k_fr R/(4EI) (1: the corrected law holds locally; 2: the paper's)", "1"),
+    Quantity("fit_c_bulk", "c_{bulk}", "exponent c of the fit A (l0' + s)^c over the bulk helix only", "1"),
+    Quantity("fit_c_bulk_err", r"\delta c_{bulk}", "standard error of the bulk-window exponent", "1"),
+    Quantity("fit_rms_bulk", "", "rms relative residual of the bulk-window fit", "1"),
+    Quantity("paper_rms_log_ratio_bulk", "", "rms of ln(f_paper/|F_z|) over the bulk helix (0 without a printed fit)",
+             "1"),
+    Quantity("has_fit_bulk", "", "1 where the bulk-window fit exists (a bulk, and a fit that converged)", "1"),
+    Quantity("fall_whole", r"F(s_h)/F(s_e)", "factor by which |F_z| falls over the whole wall-contact stretch", "1"),
+    Quantity("fall_bulk", r"F(s_b)/F(s_l)", "factor by which |F_z| falls over the bulk helix", "1"),
+    Quantity("bulk_decay_rate_member", r"d(1/|F_z|)/ds", "bulk decay rate of each ensemble member (0 where "
+             "has_bulk_member is 0)", "R EI-1"),
+    Quantity("has_bulk_member", "", "1 where the ensemble member has a bulk helix", "1"),
+    Quantity("bulk_decay_rate_mean", r"\langle d(1/|F_z|)/ds\rangle", "ensemble mean of the bulk decay rate "
+             "(members with a bulk)", "R EI-1"),
+    Quantity("bulk_decay_rate_std", r"\sigma", "ensemble standard deviation of the bulk decay rate (ddof = 1)",
+             "R EI-1"),
+    Quantity("fit_c_bulk_member", "c_{bulk}", "bulk-window exponent of each ensemble member (0 where "
+             "has_fit_bulk_member is 0)", "1"),
+    Quantity("has_fit_bulk_member", "", "1 where the member has a bulk-window fit", "1"),
+    Quantity("fit_c_bulk_mean", r"\langle c_{bulk}\rangle", "ensemble mean of the bulk-window exponent", "1"),
+    Quantity("fit_c_bulk_std", r"\sigma_{c,bulk}", "ensemble standard deviation of the bulk-window exponent", "1"),
+    Quantity("tip_length_member", "s_b", "tip-region length of each ensemble member", "R"),
+    Quantity("lower_length_member", "L - s_l", "lower-region length of each ensemble member", "R"),
     # Fig 1: shapes
     Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),
     Quantity("detached_top", "s_h", "length of the detached upper end (loaded end to first wall contact)", "R"),
@@ -304,7 +359,7 @@ def error_attrs(name: str) -> dict[str, str]:
 
 
 _PRETTY_UNITS = {"R": "R", "EI R-2": "EI/R^2", "EI R-3": "EI/R^3", "rad R-1": "1/R", "R-1": "1/R",
-                 "beta_ph R4 EI-1": r"\beta_{ph} R^4/EI", "1": "", "rad": "rad", "EI": "EI", "s": "s"}
+                 "beta_ph R4 EI-1": r"\beta_{ph} R^4/EI", "R EI-1": "R/EI", "1": "", "rad": "rad", "EI": "EI", "s": "s"}
 
 
 def pretty_unit(units: str) -> str:

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import ensembles, theory
+from .. import ensembles, regions, theory
 from .. import plotting as P
 from ..errors import ConfigError
 from ..fits import PARAMS, FitError, fit_power_law, power_law
@@ -91,6 +91,12 @@ def caption(figure, fig_cfg, built) -> str:
              f"trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; values and standard errors in the "
              "panel and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
              "from the first wall contact s_h; grey dotted: the same with the paper's 2EI.")
+    body += (" Lower row: 1/|F_z| against s, with the three regions of the rod found from the data "
+             "(confined_rod.regions): the tip at the loaded end (orange), the bulk helix where the wall friction is "
+             "axial and at its Coulomb limit (green), and the lower region where it is stuck or azimuthal (violet). "
+             "In the bulk the simple model's argument holds locally if d(1/|F_z|)/ds = k_fr R/(4EI) (blue dashed, "
+             "from the start of the bulk); the paper's K = R F^2/(2EI) gives twice that (grey dotted). The number is "
+             "the fitted bulk slope over k_fr R/(4EI), its uncertainty the difference between the bulk's halves.")
     if n_members > len(built):
         n = n_members / len(built)
         body += (f" Each panel is a seed ensemble of {n:g} runs: the black profile and the fit are those of the "
@@ -136,6 +142,31 @@ def _fit(d: xr.Dataset, trim: float):
     return fit_power_law(s[window], F[window], guess=(guess_A, guess_l0, -1.0))
 
 
+REGION_KEYS = ("has_bulk", "s_bulk_start", "s_bulk_end", "tip_length", "bulk_length", "lower_length",
+               "lower_q_mean", "lower_force_drop", "bulk_decay_rate", "bulk_decay_rate_err", "whole_decay_rate",
+               "whole_decay_rate_err", "decay_rate_model", "decay_rate_paper", "decay_ratio")
+
+
+def _bulk_fit(d: xr.Dataset, a: regions.Analysis):
+    """Our fit A (l0' + s)^c over the bulk helix only (None without a bulk or a fit), and the
+    factors by which |F_z| falls over the whole stretch and over the bulk."""
+    s, F = d["s"].values, np.abs(d["F_z"].values)
+    s_h, s_e, _, _ = _fit_window(d, 0.0)
+    fall_whole = float(np.interp(s_h, s, F) / np.interp(s_e, s, F))
+    if not a.regions.has_bulk:
+        return None, fall_whole, 0.0
+    lo, hi = a.regions.s_bulk_start, a.regions.s_bulk_end
+    fall_bulk = float(np.interp(lo, s, F) / np.interp(hi, s, F))
+    w = (s >= lo) & (s <= hi)
+    R, EI, k_fr = (float(d.attrs[k]) for k in ("R", "EI", "k_fr"))
+    F_b = float(np.interp(lo, s, F))
+    try:
+        f = fit_power_law(s[w], F[w], guess=(4 * EI / (k_fr * R), max(4 * EI / (k_fr * R * F_b) - lo, 1.0), -1.0))
+    except FitError:
+        f = None
+    return f, fall_whole, fall_bulk
+
+
 def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -> xr.Dataset:
     """The ensemble of each panel: members' transmitted fraction, exponent and final state,
     their statistics, and the range of the profiles; the panel's transmitted force and
@@ -156,6 +187,22 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
             return np.nan
     c = pad.values(exponent)
     has_fit = (np.isfinite(c) & (has == 1)).astype(np.int8)
+    per_member = {}
+    for members in panels.values():
+        for m in members:
+            a = regions.analyse(sims[m])
+            fb = _bulk_fit(sims[m], a)[0]
+            per_member[m] = (a.bulk.rate if a.bulk else np.nan, fb.c if fb else np.nan,
+                             a.regions.tip_length, a.regions.lower_length)
+    grid = np.zeros(has.shape + (4,))
+    for i, members in enumerate(panels.values()):
+        for j, m in enumerate(members):
+            grid[i, j] = per_member[m]
+    rate, cb, tip_len, low_len = (grid[..., k] for k in range(4))
+    has_rate = (np.isfinite(rate) & (has == 1)).astype(np.int8)
+    rate = np.where(has_rate == 1, rate, 0.0)
+    has_cb = (np.isfinite(cb) & (has == 1)).astype(np.int8)
+    cb = np.where(has_cb == 1, cb, 0.0)
     c = np.where(has_fit == 1, c, 0.0)
     st = [ensembles.stats(frac[i, has[i] == 1]) for i in range(len(panels))]
     cst = [ensembles.stats(c[i, has_fit[i] == 1]) if has_fit[i].any() else None for i in range(len(panels))]
@@ -182,6 +229,16 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     ds["has_fit_member"] = variable(PM, has_fit, "has_fit_member")
     ds["member_seed"] = variable(PM, pad.values(lambda d: float(d.attrs["seed"])).astype(np.int64), "member_seed")
     ds["has_member"] = variable(PM, has, "has_member")
+    ds["bulk_decay_rate_member"] = variable(PM, rate, "bulk_decay_rate_member")
+    ds["has_bulk_member"] = variable(PM, has_rate, "has_bulk_member")
+    ds["fit_c_bulk_member"] = variable(PM, cb, "fit_c_bulk_member")
+    ds["has_fit_bulk_member"] = variable(PM, has_cb, "has_fit_bulk_member")
+    ds["tip_length_member"] = variable(PM, tip_len, "tip_length_member")
+    ds["lower_length_member"] = variable(PM, low_len, "lower_length_member")
+    for name, vals, ok in (("bulk_decay_rate", rate, has_rate), ("fit_c_bulk", cb, has_cb)):
+        st_ = [ensembles.stats(vals[i, ok[i] == 1]) if ok[i].any() else None for i in range(len(panels))]
+        ds[f"{name}_mean"] = variable(P, [x.mean if x else 0.0 for x in st_], f"{name}_mean")
+        ds[f"{name}_std"] = variable(P, [x.std if x else 0.0 for x in st_], f"{name}_std")
     ds["member_class"] = variable(PM, cls.astype(np.int8), "member_class")
     ds["member_class"].attrs.update({"flag_values": np.arange(len(ensembles.CLASSES), dtype=np.int8),
                                      "flag_meanings": " ".join(ensembles.CLASSES)})
@@ -205,6 +262,9 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     names = list(sims)
     s = sims[names[0]]["s"].values
     rows = {k: [] for k in ("F_abs", "F_fit", "in_fit", "F_simple", "F_simple_paper", "F_paper_fit")}
+    link_rows = {"region": [], "q_axial": []}
+    reg = {k: [] for k in REGION_KEYS + ("fit_c_bulk", "fit_c_bulk_err", "fit_rms_bulk", "has_fit_bulk", "fall_whole",
+                                          "fall_bulk", "paper_rms_log_ratio_bulk")}
     scal = {k: [] for k in ("fit_A", "fit_l0", "fit_c", "fit_cov", "fit_rms", "s_h", "s_end", "n_fit",
                             "fit_fraction", "paper_fit_A", "paper_fit_l0", "paper_fit_c", "has_paper_fit",
                             "paper_fit_fraction", "paper_fit_F0", "paper_rms_log_ratio")}
@@ -225,6 +285,19 @@ def _build(fig_cfg, sims) -> xr.Dataset:
             f = _fit(d, trim)
         except FitError as e:
             raise FitError(f"scene {name!r}: {e}") from e
+        a = regions.analyse(d)
+        link_rows["region"].append(a.regions.of_links(d["s_link"].values))
+        link_rows["q_axial"].append(a.q_smooth)
+        for k, v in regions.summary(d, a).items():
+            reg[k].append(v)
+        fb, fall_whole, fall_bulk = _bulk_fit(d, a)
+        reg["fit_c_bulk"].append(fb.c if fb else 0.0)
+        reg["fit_c_bulk_err"].append(fb.errors[2] if fb else 0.0)
+        reg["fit_rms_bulk"].append(fb.rms_relative_residual if fb else 0.0)
+        in_bulk = (s >= a.regions.s_bulk_start) & (s <= a.regions.s_bulk_end)
+        reg["has_fit_bulk"].append(int(fb is not None))
+        reg["fall_whole"].append(fall_whole)
+        reg["fall_bulk"].append(fall_bulk)
         rows["F_abs"].append(F)
         rows["F_fit"].append(f(s))
         rows["in_fit"].append(window.astype(np.int8))
@@ -243,12 +316,15 @@ def _build(fig_cfg, sims) -> xr.Dataset:
         if pf:
             curve = power_law(s, pf["A"], pf["l0"], pf["c"])
             scal["paper_rms_log_ratio"].append(float(np.sqrt(np.mean(np.log(curve[window] / F[window]) ** 2))))
+            reg["paper_rms_log_ratio_bulk"].append(float(np.sqrt(np.mean(np.log(curve[in_bulk] / F[in_bulk]) ** 2)))
+                                                   if in_bulk.any() else 0.0)
             scal["paper_fit_fraction"].append(float(curve[-1] / curve[0]))
             scal["paper_fit_F0"].append(float(curve[0]))
             vals = (pf["A"], pf["l0"], pf["c"], 1)
         else:
             curve = np.zeros_like(s)
             scal["paper_rms_log_ratio"].append(0.0)
+            reg["paper_rms_log_ratio_bulk"].append(0.0)
             scal["paper_fit_fraction"].append(0.0)
             scal["paper_fit_F0"].append(0.0)
             vals = (0.0, 0.0, 0.0, 0)
@@ -258,6 +334,14 @@ def _build(fig_cfg, sims) -> xr.Dataset:
 
     PJ = ("panel", "joint")
     data = {k: variable(PJ, v, k) for k, v in rows.items()}
+    data["region"] = variable(("panel", "link"), np.array(link_rows["region"], dtype=np.int8), "region")
+    data["region"].attrs.update(flag_values=np.arange(len(regions.REGIONS), dtype=np.int8),
+                                flag_meanings=" ".join(regions.REGIONS))
+    data["q_axial"] = variable(("panel", "link"), link_rows["q_axial"], "q_axial")
+    for k, v in reg.items():
+        data[k] = variable(("panel",), np.int8(v) if k.startswith("has_") else v, k)
+    for k in ("has_bulk", "has_fit_bulk"):
+        data[k].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
     data["fit_cov"] = variable(("panel", "param", "param_"), scal.pop("fit_cov"), "fit_cov")
     for k, v in scal.items():
         data[k] = variable(("panel",), np.int8(v) if k == "has_paper_fit" else v, k)
@@ -277,6 +361,7 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     data["has_paper_fit"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
     coords = {
         "s": variable(("joint",), s, "s"),
+        "s_link": variable(("link",), sims[names[0]]["s_link"].values, "s_link"),
         "panel": xr.Variable(("panel",), np.array(names, dtype=object), attrs=attrs("panel")),
         "param": xr.Variable(("param",), np.array(PARAMS, dtype=object), attrs=attrs("param")),
         "param_": xr.Variable(("param_",), np.array(PARAMS, dtype=object), attrs=attrs("param")),
@@ -289,16 +374,56 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     ds.attrs.update({"panel_parameter": p or "none", "fit_trim": trim,
                      "fit_method": "scipy.optimize.curve_fit, relative residuals (sigma = |F_z|), A > 0, l0' > 0",
                      "fit_window": "joints between the first and the last link touching the wall, trimmed by fit_trim",
+                     "regions": (f"confined_rod.regions: bulk = longest stretch where the axial friction utilisation, "
+                                 f"averaged over {regions.WINDOW_R:g} R, is >= {regions.Q_BULK:g}; tip before it, lower "
+                                 "region after it; decay rates are slopes of 1/|F_z| against s, uncertainty max(s.e., "
+                                 "half the difference of the two halves)"),
                      "paper_euler_ratio": float(fig_cfg.get("paper_euler_ratio", 0.0)),
                      "paper_reference": "D. Svensek and R. Podgornik, Confined nanorods: jamming due to helical "
                                         "buckling; printed fit parameters as given in the config (paper_fits)"})
     return ds
 
 
+REGION_COLORS = {"tip": "#f6d8b8", "bulk": "#d5ecd4", "lower": "#dcdcef"}
+
+
+def _plot_local_law(ax, d, s, i: int) -> None:
+    """1/|F_z| against s with the three regions shaded and the local laws k_fr R/(4EI)
+    (corrected) and k_fr R/(2EI) (paper) drawn from the start of the bulk."""
+    inv = 1.0 / d["F_abs"].values
+    if int(d.has_bulk):
+        for name, lo, hi in (("tip", 0.0, float(d.s_bulk_start)), ("bulk", float(d.s_bulk_start), float(d.s_bulk_end)),
+                             ("lower", float(d.s_bulk_end), float(s[-1]))):
+            ax.axvspan(lo, hi, color=REGION_COLORS[name], lw=0, zorder=0, label=f"{name} region")
+        s_b = float(d.s_bulk_start)
+        inv_b = float(np.interp(s_b, s, inv))
+        x = np.linspace(s_b, float(s[-1]), 50)
+        ax.plot(x, inv_b + float(d.decay_rate_model) * (x - s_b), **P.MODEL, label=r"local law $k_{fr}R/(4EI)$")
+        ax.plot(x, inv_b + float(d.decay_rate_paper) * (x - s_b), **P.PAPER, label=r"paper's $k_{fr}R/(2EI)$")
+        rate, err = float(d.bulk_decay_rate), float(d.bulk_decay_rate_err)
+        ratio = rate / float(d.decay_rate_model)
+        text = f"bulk: ${ratio:.2f} \\pm {err / float(d.decay_rate_model):.2f}$\n" + r"$\times\,k_{fr}R/(4EI)$"
+        if "bulk_decay_rate_mean" in d:
+            text += (f"\nseeds: ${float(d.bulk_decay_rate_mean) / float(d.decay_rate_model):.2f} \\pm "
+                     f"{float(d.bulk_decay_rate_std) / float(d.decay_rate_model):.2f}$")
+        ax.text(0.97, 0.04, text, transform=ax.transAxes, ha="right", va="bottom", fontsize=7.5,
+                bbox=dict(fc="white", ec="none", alpha=0.8, pad=1.5))
+    ax.plot(s, inv, lw=1.6, **P.SIM)
+    ax.set_ylim(0, 1.08 * float(np.max(inv)))
+    ax.set_xlim(0, s[-1])
+    ax.set_xlabel(label("s"))
+
+
 def plot(ds: xr.Dataset):
     n = ds.sizes["panel"]
-    width = 2.75 * n + 0.6 if n > 1 else 4.6
-    fig, axes = P.plt.subplots(1, n, figsize=(width, 3.6), sharey=True, squeeze=False, label=ds.attrs["title"])
+    width = 7.0 if n > 1 else 4.6
+    local = "bulk_decay_rate" in ds
+    rows = 2 if local else 1
+    fig, all_axes = P.plt.subplots(rows, n, figsize=(width, 3.6 + 2.4 * (rows - 1)), squeeze=False,
+                                   label=ds.attrs["title"], gridspec_kw={"height_ratios": [3, 2][:rows]})
+    axes = all_axes[:1]
+    for ax in axes[0][1:]:
+        ax.sharey(axes[0][0])
     s = ds["s"].values
     p = ds.attrs.get("panel_parameter", "none")
     for i, ax in enumerate(axes[0]):
@@ -343,18 +468,23 @@ def plot(ds: xr.Dataset):
         ax.set_title(title, fontsize=9, loc="left")
         ax.set_xlim(0, s[-1])
     axes[0][0].set_ylabel(label("F_abs"))
+    if local:
+        for i, ax in enumerate(all_axes[1]):
+            _plot_local_law(ax, ds.isel(panel=i), s, i)
+            ax.set_title((f"({chr(97 + n + i)})" if n > 1 else "") + " local decay law", fontsize=9, loc="left")
+        all_axes[1][0].set_ylabel(r"$1/|F_z|$ [$R^2/EI$]")
     head = P.params_text(ds, ("L", "load", "k_fr", "l0"))
     if ds.attrs.get("bending_constant") == "paper":
         head += r"; AS PRINTED: $C = EI/l_0^2$"
     fig.suptitle(head, fontsize=9)
     handles, labels = [], []
-    for ax in axes[0]:  # the paper's curve may be in some panels only
+    for ax in list(axes[0]) + (list(all_axes[1]) if local else []):  # the paper's curve may be in some panels only
         for h, lab in zip(*ax.get_legend_handles_labels()):
             if lab not in labels:
                 handles.append(h)
                 labels.append(lab)
     ncol = min(len(labels), 4 if n > 1 else 2)
     fig.legend(handles, labels, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, -0.01))
-    rows = -(-len(labels) // ncol)
-    fig.tight_layout(rect=(0, (0.05 if n == 1 else 0.045) * rows, 1, 1))
+    legend_rows = -(-len(labels) // ncol)
+    fig.tight_layout(rect=(0, (0.05 if n == 1 else 0.045) * legend_rows / rows, 1, 1))
     return fig

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from .. import plotting as P
-from .. import theory
+from .. import regions, theory
 from ..errors import ConfigError
 from ..io import variable
 from ..measure import force_at_links, handedness_reversals
@@ -43,9 +43,10 @@ def caption(figure, fig_cfg, built) -> str:
             f"stretch of the rod of L/R = {sc.L:g}, k_fr = {sc.k_fr:g} (the rod of Fig 4(c), same simulation). "
             "(a) |dphi/ds| of the link centres on the wall (black; links off the wall inside the stretch omitted), "
             "reversals of handedness marked by red triangles; blue dashed: the pitch rate a torque-free helix "
-            "carrying the local |F_z| would have, 2 EI w^2 sqrt(1 - R^2 w^2) = |F_z|; grey dotted: its lowest "
-            "order sqrt(|F_z|/2EI) (paper's Eq. dotphi). (b) |F_z(s)| (black) against the same relation evaluated "
-            "with the measured pitch (red), and their ratio in the dataset. The bulk (middle 80 % of the stretch, "
+            "carrying the local |F_z| would have, 2 EI omega^2 sqrt(1 - R^2 omega^2) = |F_z| with omega = |dphi/ds|; "
+            "grey dotted: its lowest order sqrt(|F_z|/2EI) (paper's Eq. dotphi). (b) |F_z(s)| (black) against the "
+            "same relation evaluated with the measured pitch (red), and their ratio in the dataset. The bulk (middle "
+            "80 % of the stretch, "
             "between the grey lines) gives the slope of ln|dphi/ds| against ln|F_z| and the relative decreases "
             "that test the paper's claim.")
 
@@ -78,6 +79,13 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     bulk = (s_h >= s_h[0] + BULK[0] * span) & (s_h <= s_h[0] + BULK[1] * span) & defined
     fit = bulk & (np.abs(w) > 0)
     slope = float(np.polyfit(np.log(F[fit]), np.log(np.abs(w[fit])), 1)[0]) if fit.sum() >= 5 else 0.0
+    # the same slope over the whole defined stretch and over the bulk helix of confined_rod.regions
+    reg = regions.analyse(d).regions
+    in_region = (s_h >= reg.s_bulk_start) & (s_h <= reg.s_bulk_end) & defined & (np.abs(w) > 0)
+    slopes = {}
+    for key, m in (("whole", defined & (np.abs(w) > 0)), ("bulk", in_region)):
+        slopes[key] = float(np.polyfit(np.log(F[m]), np.log(np.abs(w[m])), 1)[0]) if m.sum() >= 5 else 0.0
+        slopes[key + "_fall"] = float(F[m].max() / F[m].min()) if m.sum() >= 5 else 1.0
     sb = s_h[bulk]
     tenth = 0.1 * (sb[-1] - sb[0]) if sb.size else 0.0
     first, last = bulk & (s_h <= sb[0] + tenth), bulk & (s_h >= sb[-1] - tenth)
@@ -103,6 +111,10 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
             "long_name": "in the bulk (middle 80 % of the contact stretch) and defined", "units": "1"}),
         "s_reversal": variable(("reversal_index",), s_rev, "s_reversal"),
         "exponent_omega_F": variable((), slope, "exponent_omega_F"),
+        "exponent_omega_F_whole": variable((), slopes["whole"], "exponent_omega_F_whole"),
+        "exponent_omega_F_bulk": variable((), slopes["bulk"], "exponent_omega_F_bulk"),
+        "fall_whole": variable((), slopes["whole_fall"], "fall_whole"),
+        "fall_bulk": variable((), slopes["bulk_fall"], "fall_bulk"),
         "drop_omega": variable((), drop_w, "drop_omega"),
         "drop_F": variable((), drop_F, "drop_F"),
         "helix_ratio_median": xr.Variable((), float(np.median(ratio[bulk])) if bulk.any() else 0.0, attrs={

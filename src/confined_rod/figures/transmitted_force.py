@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import ensembles, theory
+from .. import ensembles, regions, theory
 from .. import plotting as P
 from ..io import variable
 from ..measure import n_turns
@@ -21,6 +21,8 @@ from ..quantities import label
 from ._common import need_scenes, per_scene, same_except, scene_coord
 
 OPTIONS: dict = {}
+REGION_KEYS = ("has_bulk", "tip_length", "bulk_length", "lower_length", "lower_q_mean", "lower_force_drop",
+               "bulk_decay_rate", "bulk_decay_rate_err", "decay_rate_model", "decay_rate_paper", "decay_ratio")
 ENSEMBLES = True
 
 
@@ -43,7 +45,11 @@ def caption(figure, fig_cfg, built) -> str:
     return (f"Force |F_z(L)| transmitted to the lower piston against the rod length L/R = {Ls}, "
             f"k_fr = {sc.k_fr:g}; {points} (open = not converged), lines: the simple model "
             f"|F_z(L)| = (1/|F_z(0)| + k_fr R L/(4EI))^-1 (dashed, corrected) and the paper's form with "
-            f"2EI (dotted); grey line: eye guide.")
+            f"2EI (dotted); grey line: eye guide. (b) The local decay law in the bulk helix of each length "
+            "(confined_rod.regions: the stretch where the wall friction is axial and at its Coulomb limit): the "
+            "slope d(1/|F_z|)/ds fitted there, over the corrected k_fr R/(4EI) (dashed line at 1); the paper's "
+            "K = R F^2/(2EI) gives 2 (dotted). Lengths without a bulk helix (the short rods, which jam at a few "
+            "contacts) have no point.")
 
 
 def build(fig_cfg, sims, context=None) -> xr.Dataset:
@@ -76,6 +82,10 @@ def _build(names, sims) -> xr.Dataset:
         "F_simple_paper": variable(("L_model",), theory.force_decay(L_model, load, k_fr, R, EI, paper=True),
                                    "F_simple_paper"),
     }
+    summ = [regions.summary(sims[n]) for n in names]
+    for k in REGION_KEYS:
+        data[k] = variable(("L",), np.array([x[k] for x in summ], dtype=np.int8 if k == "has_bulk" else float), k)
+    data["has_bulk"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
     coords = {"L": variable(("L",), L, "L"), "L_model": variable(("L_model",), L_model, "L_model"),
               "scene": scene_coord("L", names)}
     return xr.Dataset(data, coords=coords)
@@ -106,6 +116,22 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
                                  "member_seed")
     ds["has_member"] = variable(("L", "member"), has, "has_member")
     ds["member_class"] = variable(("L", "member"), cls.astype(np.int8), "member_class")
+    analyses = {n: regions.analyse(sims[n]) for g in groups for n in g}
+    rate, tip, low = (np.zeros(has.shape) for _ in range(3))
+    has_bulk = np.zeros(has.shape, dtype=np.int8)
+    for i, g in enumerate(groups):
+        for j, n in enumerate(g):
+            a = analyses[n]
+            has_bulk[i, j] = int(a.bulk is not None)
+            rate[i, j] = a.bulk.rate if a.bulk else 0.0
+            tip[i, j], low[i, j] = a.regions.tip_length, a.regions.lower_length
+    ds["bulk_decay_rate_member"] = variable(("L", "member"), rate, "bulk_decay_rate_member")
+    ds["has_bulk_member"] = variable(("L", "member"), has_bulk, "has_bulk_member")
+    ds["tip_length_member"] = variable(("L", "member"), tip, "tip_length_member")
+    ds["lower_length_member"] = variable(("L", "member"), low, "lower_length_member")
+    rst = [ensembles.stats(rate[i, has_bulk[i] == 1]) if has_bulk[i].any() else None for i in range(len(groups))]
+    ds["bulk_decay_rate_mean"] = variable(("L",), [x.mean if x else 0.0 for x in rst], "bulk_decay_rate_mean")
+    ds["bulk_decay_rate_std"] = variable(("L",), [x.std if x else 0.0 for x in rst], "bulk_decay_rate_std")
     ds["member_class"].attrs.update({"flag_values": np.arange(len(ensembles.CLASSES), dtype=np.int8),
                                      "flag_meanings": " ".join(ensembles.CLASSES)})
     for name, field in (("n_seeds", "n"), ("F_mean", "mean"), ("F_std", "std"), ("F_sem", "sem"),
@@ -121,8 +147,44 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
     return ds
 
 
+def _plot_local_law(bx, ds: xr.Dataset) -> None:
+    """(b): the bulk decay rate of each length over the corrected local law k_fr R/(4EI), with
+    the paper's 2 (its K = R F^2/(2EI)) beside it."""
+    L = ds["L"].values
+    model = ds["decay_rate_model"].values
+    ok = ds["has_bulk"].values == 1
+    if "bulk_decay_rate_member" in ds:
+        has = ds["has_bulk_member"].values == 1
+        Lm = np.broadcast_to(L[:, None], has.shape)
+        ratio_m = ds["bulk_decay_rate_member"].values / model[:, None]
+        bx.plot(Lm[has], ratio_m[has], ".", ms=3, color="0.55", label="single seeds")
+        mean = ds["bulk_decay_rate_mean"].values / model
+        sd = ds["bulk_decay_rate_std"].values / model
+        ok = ok | has.any(axis=1)
+        bx.errorbar(L[ok], mean[ok], yerr=sd[ok], fmt="o", ms=4.5, color="black", capsize=2.5,
+                    label="mean $\\pm$ s.d. over seeds")
+    else:
+        mean = ds["bulk_decay_rate"].values / model
+        bx.errorbar(L[ok], mean[ok], yerr=(ds["bulk_decay_rate_err"].values / model)[ok], fmt="o", ms=4.5,
+                    color="black", capsize=2.5, label="simulation")
+    bx.axhline(1.0, **P.MODEL, label=r"corrected, $k_{fr}R/(4EI)$")
+    bx.axhline(2.0, **P.PAPER, label=r"paper, $k_{fr}R/(2EI)$")
+    bx.set_xscale("log")
+    P.plain_log_ticks(bx.xaxis)
+    bx.set_ylim(0, 2.4)
+    bx.set_xlabel(label("L"))
+    bx.set_ylabel(r"bulk $\frac{d(1/|F_z|)/ds}{k_{fr}R/(4EI)}$")
+    bx.set_title("(b) local decay law in the bulk helix", fontsize=9, loc="left")
+    bx.legend(loc="center right", fontsize=7.5)
+
+
 def plot(ds: xr.Dataset):
-    fig, ax = P.plt.subplots(figsize=(4.6, 3.4), label=ds.attrs["title"])
+    local = "bulk_decay_rate" in ds and bool((ds["has_bulk"].values == 1).any())
+    if local:
+        fig, (ax, bx) = P.plt.subplots(1, 2, figsize=(7.0, 3.3), label=ds.attrs["title"])
+        _plot_local_law(bx, ds)
+    else:
+        fig, ax = P.plt.subplots(figsize=(4.6, 3.4), label=ds.attrs["title"])
     L = ds["L"].values
     F = ds["F_transmitted"].values
     ok = ds["converged"].values == 1
@@ -147,8 +209,11 @@ def plot(ds: xr.Dataset):
     P.log_axes(ax)
     ax.set_xlabel(label("L"))
     ax.set_ylabel(label("F_transmitted"))
-    ax.set_title(P.params_text(ds, ("load", "k_fr", "l0")), fontsize=9)
+    ax.set_title(("(a) " if local else "") + P.params_text(ds, ("load", "k_fr", "l0")), fontsize=9,
+                 loc="left" if local else "center")
     # lower left is empty (every curve falls with L); "best" put the legend's
     # marker among the data, where it read as an extra point
     ax.legend(loc="lower left", fontsize=7.5)
+    if local:
+        fig.tight_layout()
     return fig
