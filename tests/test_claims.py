@@ -215,3 +215,95 @@ def test_paper_without_tex_says_what_to_install(monkeypatch, tmp_path):
     with pytest.raises(RuntimeError, match="apt-get install latexmk texlive-publishers"):
         paper.build_pdf(str(ROOT / "paper" / "reproduction.tex"), [], [], str(tmp_path / "x.pdf"))
     assert not (tmp_path / "x.pdf").exists()
+
+
+# -- window-aware and local-law measures on constructed datasets ---------------------------------------
+def _profile_fig(c_whole, c_bulk, fall_whole=5.0, fall_bulk=4.0, c_std=0.0, paper_c=-0.9):
+    return _fig({"fit_c": [c_whole], "fit_c_bulk": [c_bulk], "has_fit_bulk": [1], "fall_whole": [fall_whole],
+                 "fall_bulk": [fall_bulk], "paper_fit_c": [paper_c], "fit_c_mean": [c_whole], "fit_c_std": [c_std],
+                 "fit_c_bulk_mean": [c_bulk], "fit_c_bulk_std": [c_std]})
+
+
+@pytest.mark.parametrize("c_whole, c_bulk, kw, verdict", [
+    (-0.91, -0.88, {}, "reproduced"),                        # both windows agree with -0.9
+    (-0.67, -0.90, {}, "inconclusive"),                      # the window decides: not 'refuted'
+    (-0.50, -0.60, {}, "refuted"),                           # both windows disagree
+    (-0.50, -0.90, {"fall_whole": 1.5}, "inconclusive"),     # whole window degenerate: not decided
+    (-0.80, -0.82, {"c_std": 0.12}, "reproduced"),           # the seed spread widens the tolerance
+])
+def test_exponent_verdict_needs_both_windows(c_whole, c_bulk, kw, verdict):
+    ev = claims.Evidence({"f": _profile_fig(c_whole, c_bulk, **kw)})
+    v = claims.evaluate_one({"id": "e", "where": "Fig. 4", "claim": "c", "paper": -0.9,
+                             "test": {"method": "measure", "name": "exponents", "figures": ["f"], "tol": 0.05}}, ev)
+    assert v.verdict == verdict, v.note
+
+
+def _law_fig(ratios, errs, has=None):
+    n = len(ratios)
+    model = 0.2
+    return xr.Dataset({"has_bulk": ("L", np.array(has if has is not None else [1] * n)),
+                       "decay_rate_model": ("L", np.full(n, model)), "decay_rate_paper": ("L", np.full(n, 2 * model)),
+                       "bulk_decay_rate": ("L", model * np.asarray(ratios)),
+                       "bulk_decay_rate_err": ("L", model * np.asarray(errs))},
+                      coords={"L": ("L", 40.0 * 2 ** np.arange(n))})
+
+
+@pytest.mark.parametrize("ratios, errs, law, verdict", [
+    ([0.95, 1.02, 0.97], [0.03, 0.02, 0.05], "corrected", "reproduced"),
+    ([0.95, 1.02, 0.97], [0.03, 0.02, 0.05], "paper", "refuted"),           # 0.5 of the paper's law
+    ([0.95, 1.25, 0.97], [0.03, 0.02, 0.05], "corrected", "refuted"),       # one length off by 25 %
+    ([0.95, 1.15, 0.97], [0.03, 0.10, 0.05], "corrected", "inconclusive"),  # off, but within its errors
+])
+def test_local_decay_law_verdict(ratios, errs, law, verdict):
+    ev = claims.Evidence({"f": _law_fig(ratios, errs)})
+    value, holds, _, note = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": law, "tol": 0.1}, "x")
+    assert {True: "reproduced", False: "refuted", None: "inconclusive"}[holds] == verdict, note
+    assert value == pytest.approx(np.mean(ratios) / (1 if law == "corrected" else 2))
+
+
+def test_local_decay_law_skips_lengths_without_a_bulk():
+    ev = claims.Evidence({"f": _law_fig([0.3, 1.0], [0.01, 0.02], has=[0, 1])})
+    value, holds, _, note = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": "corrected",
+                                                                    "tol": 0.1}, "x")
+    assert holds is True and value == pytest.approx(1.0) and "1 runs without a bulk helix" in note
+
+
+def test_straight_branch_compliance_is_the_bond_compliance_of_the_tilted_rod():
+    L, R, k_ph = 20.0, 1.0, 100.0
+    loads = np.array([0.005, 0.01, 0.015, 0.05])
+    slope = -(L / k_ph) * L**2 / (L**2 - 4 * R**2)
+    Lz = np.sqrt(L**2 - 4 * R**2) + slope * loads
+    cls = np.array([0, 0, 0, 2], dtype=np.int8)             # the last load is above the threshold
+    ds = xr.Dataset({"L_z": (("branch", "load"), [Lz]), "state_class": (("branch", "load"), [cls]),
+                     "converged": (("branch", "load"), [np.ones(4, dtype=np.int8)]),
+                     "branch_protocol": ("branch", np.array(["straight"], dtype=object)),
+                     "branch_k_fr": ("branch", [0.0]), "aspect": ("aspect", [L / R]),
+                     "aspect_R": ("aspect", [R])}, coords={"load": ("load", loads)},
+                    attrs={"main_index": 0, "k_ph": k_ph})
+    ds.state_class.attrs["flag_meanings"] = "straight planar three_d"
+    ev = claims.Evidence({"f": ds})
+    value, holds, _, note = claims.MEASURES["straight_branch_compliance"](ev, {"figure": "f"}, "x")
+    assert value == pytest.approx(L**2 / (L**2 - 4 * R**2), rel=1e-9) and "3 loads" in note
+    ratio, ok, *_ = claims.MEASURES["straight_branch_tilt"](ev, {"figure": "f", "rel": 0.05}, "x")
+    assert ratio == pytest.approx(1.0, rel=1e-9) and ok
+
+
+def _contact_sim(first_run, last_run_end, seed, k_fr=0.8, n=200, l0=0.5):
+    contact = np.zeros(n, dtype=np.int8)
+    contact[[1, 5]] = 1                                     # tip contacts: not helix
+    contact[first_run:last_run_end] = 1
+    return xr.Dataset({"contact": ("link", contact)}, coords={"s_link": ("link", (np.arange(n) + 0.5) * l0)},
+                      attrs={"L": n * l0, "l0": l0, "k_fr": k_fr, "seed": seed})
+
+
+def test_boundary_wider_reads_both_ends_over_the_seeds():
+    # small load: detached 20 R at the loaded end and 10 R at the support; large load: 5 R and 15 R
+    small = {f"f7/s-s{i}": _contact_sim(40, 180, i) for i in range(2)}
+    large = {f"f4/c-s{i}": _contact_sim(10, 170, i) for i in range(2)}
+    ev = claims.Evidence({}, {**small, **large})
+    value, holds, _, note = claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")
+    assert value == pytest.approx(20.0 / 5.0) and holds is None       # wider at the loaded end only
+    assert "support 10 R against 15 R" in note
+    large = {f"f4/c-s{i}": _contact_sim(10, 190, i) for i in range(2)}
+    ev = claims.Evidence({}, {**small, **large})
+    assert claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")[1] is True

@@ -429,6 +429,70 @@ def defects_after_unloading(ev, spec, claim):
         f"seeds with a defect: {text} EI/R^2"
 
 
+# -- window-aware verdicts: the bulk helix and the whole wall-contact stretch ----------------------
+DEGENERATE_FALL = 2.0   # a 3-parameter power law fitted where |F_z| falls by less than this is not determined
+
+
+def _combine(parts: list[bool | None]) -> bool | None:
+    """One verdict from several independent parts (panels, lengths): refuted if any part is,
+    reproduced if every part is, else inconclusive."""
+    if any(p is False for p in parts):
+        return False
+    return True if parts and all(p is True for p in parts) else None
+
+
+def _two_windows(ok_whole: bool | None, ok_bulk: bool | None) -> bool | None:
+    """A statement tested on the whole stretch and on the bulk: decided only if both agree."""
+    return ok_whole if ok_whole == ok_bulk else None
+
+
+def _panel_label(ds, i: int) -> str:
+    return f"({chr(97 + i)})" if ds.sizes.get("panel", 1) > 1 else str(ds.panel.values[i]) if "panel" in ds.coords \
+        else "(a)"
+
+
+def _panel_value(ds, var: str, i: int, ensemble: str | None = None) -> tuple[float, float]:
+    """A panel's value (the ensemble mean where the dataset has one) and its seed s.d. (0 for one run)."""
+    if ensemble and f"{ensemble}_mean" in ds:
+        return float(ds[f"{ensemble}_mean"].values[i]), float(ds[f"{ensemble}_std"].values[i])
+    return float(ds[var].values[i]), 0.0
+
+
+def _exponent_windows(ds, i: int) -> dict[str, tuple[float | None, float, str]]:
+    """c over the whole stretch and over the bulk of panel i: (value or None if the fit is
+    degenerate or missing, seed s.d., why None)."""
+    out = {}
+    c_w, sd_w = _panel_value(ds, "fit_c", i, "fit_c")
+    fall_w = float(ds.fall_whole.values[i])
+    out["whole"] = (c_w, sd_w, "") if fall_w >= DEGENERATE_FALL else \
+        (None, sd_w, f"|F_z| falls only {fall_w:.2g}x over the whole stretch")
+    if int(ds.has_fit_bulk.values[i]) == 0:
+        out["bulk"] = (None, 0.0, "no bulk helix")
+    else:
+        c_b, sd_b = _panel_value(ds, "fit_c_bulk", i, "fit_c_bulk")
+        fall_b = float(ds.fall_bulk.values[i])
+        out["bulk"] = (c_b, sd_b, "") if fall_b >= DEGENERATE_FALL else \
+            (None, sd_b, f"|F_z| falls only {fall_b:.2g}x over the bulk")
+    return out
+
+
+def _compare_exponent(windows, target: float, tol: float) -> tuple[bool | None, float, str]:
+    """Does c agree with target within max(tol, seed s.d.) on both windows?"""
+    oks, texts, worst = [], [], 0.0
+    for name in ("whole", "bulk"):
+        c, sd, why = windows[name]
+        if c is None:
+            oks.append(None)
+            texts.append(f"{name}: not determined ({why})")
+            continue
+        t = max(tol, sd)
+        oks.append(abs(c - target) <= t)
+        worst = max(worst, abs(c - target))
+        texts.append(f"{name} {c:.3f}" + (f" +- {sd:.2g}" if sd else "") + f" ({'within' if oks[-1] else 'outside'} "
+                     f"{t:.2g})")
+    return _two_windows(*oks), worst, ", ".join(texts)
+
+
 @measure
 def exponents(ev, spec, claim):
     """The fitted exponent c of every panel of the figures (spec figures, optional panels),
@@ -495,7 +559,8 @@ def power_law_quality(ev, spec, claim):
                 texts.append(f"{name} {100 * r:.2g} %" + ("" if f >= DEGENERATE_FALL else f" (falls only {f:.2g}x)"))
             parts.append(_two_windows(*oks))
             notes.append(f"{fig} {_panel_label(ds, i)}: " + ", ".join(texts))
-    return worst, _combine(parts), ", ".join(f"results/datasets/{f}.nc:fit_rms, fit_rms_bulk" for f in spec["figures"]), \
+    files = ", ".join(f"results/datasets/{f}.nc:fit_rms, fit_rms_bulk" for f in spec["figures"])
+    return worst, _combine(parts), files, \
         "; ".join(notes)
 
 

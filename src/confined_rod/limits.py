@@ -84,10 +84,15 @@ def roundoff_force(scene) -> float:
     return ROUNDOFF_FACTOR * _EPS * (c.k * scene.L + scene.k_w * scene.R + scene.load)
 
 
-def roundoff_tol(scene) -> float:
+def roundoff_tol(scene, load: float | None = None) -> float:
     """The round-off floor in the normalisation of the equilibrium test
-    (eps_F = max|F_i| L/(l0 load)), with a factor 2 of headroom."""
-    return 2.0 * roundoff_force(scene) * scene.L / (scene.l0 * scene.load)
+    (eps_F = max|F_i| L/(l0 load)), with a factor 2 of headroom; at another load if given
+    (the stages of a load ramp)."""
+    if load is None:
+        return 2.0 * roundoff_force(scene) * scene.L / (scene.l0 * scene.load)
+    c = scene.constants()
+    force = ROUNDOFF_FACTOR * _EPS * (c.k * scene.L + scene.k_w * scene.R + load)
+    return 2.0 * force * scene.L / (scene.l0 * load)
 
 
 def equilibrium_tol(scene) -> float:

@@ -60,8 +60,13 @@ SCENE_PARAMETERS = [
            {"enum": ["free", "pinned", "guided"]}),
     _param("lower_end", "", "lower end held in z (paper) or free", "1", {"enum": ["held", "free"]}),
     _param("floor", "", "the lower piston at z = 0 is a wall for the whole rod", "1", {"type": "boolean"}),
-    _param("protocol", "", "start: straight rod + 3-D perturbation, planar, or planar then 3-D", "1",
-           {"enum": ["straight", "planar", "planar_then_3d"]}),
+    _param("protocol", "", "start and loading: straight rod + 3-D perturbation at the full load, planar, planar "
+           "then 3-D, a quasi-static load ramp (ramp), or a one-handed helix on the wall (helix)", "1",
+           {"enum": ["straight", "planar", "planar_then_3d", "ramp", "helix"]}),
+    _param("ramp_steps", "n_{ramp}", "protocol ramp: number of load steps, geometric from ramp_start times "
+           "Euler's load to the load, each relaxed from the last", "1", {"type": "integer", "minimum": 1}),
+    _param("ramp_start", "F_1/F_E", "protocol ramp: first load of the ramp over Euler's load pi^2 EI/L^2", "1",
+           {"type": "number", "exclusiveMinimum": 1}),
     _param("perturbation", "a", "amplitude of the random lateral displacement of the start", "R",
            _NONNEG_OR_DEFAULT),
     _param("kick", "a_{3D}", "out-of-plane perturbation of the second stage of planar_then_3d", "R",
@@ -324,6 +329,22 @@ _Q = SCENE_PARAMETERS + [
     Quantity("fit_c_bulk_std", r"\sigma_{c,bulk}", "ensemble standard deviation of the bulk-window exponent", "1"),
     Quantity("tip_length_member", "s_b", "tip-region length of each ensemble member", "R"),
     Quantity("lower_length_member", "L - s_l", "lower-region length of each ensemble member", "R"),
+    # protocol comparison (figure kind protocol_comparison)
+    Quantity("fraction_mean", r"\langle F(L)/F(0)\rangle", "ensemble mean of the transmitted fraction", "1"),
+    Quantity("lower_length_mean", r"\langle L - s_l\rangle", "ensemble mean of the lower-region length", "R"),
+    Quantity("lower_length_std", r"\sigma", "ensemble standard deviation of the lower-region length", "R"),
+    Quantity("tip_length_mean", r"\langle s_b\rangle", "ensemble mean of the tip-region length", "R"),
+    Quantity("tip_length_std", r"\sigma", "ensemble standard deviation of the tip-region length", "R"),
+    Quantity("n_reversals_member", "n_{rev}", "reversals of handedness of the wall-contact stretch of each member "
+             "(measure.defects)", "1"),
+    Quantity("n_reversals_mean", r"\langle n_{rev}\rangle", "ensemble mean number of reversals of handedness", "1"),
+    Quantity("n_reversals_std", r"\sigma", "ensemble standard deviation of the number of reversals", "1"),
+    Quantity("decay_ratio_member", r"\frac{d(1/|F_z|)/ds}{k_{fr}R/(4EI)}", "bulk decay rate over the corrected law "
+             "of each member (0 where has_bulk_member is 0)", "1"),
+    Quantity("decay_ratio_mean", r"\langle\cdot\rangle", "ensemble mean of the bulk decay rate over the corrected "
+             "law (members with a bulk)", "1"),
+    Quantity("decay_ratio_std", r"\sigma", "ensemble standard deviation of the bulk decay rate over the corrected "
+             "law", "1"),
     # Fig 1: shapes
     Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),
     Quantity("detached_top", "s_h", "length of the detached upper end (loaded end to first wall contact)", "R"),

@@ -202,7 +202,8 @@ def summary(sim: xr.Dataset, a: Analysis | None = None) -> dict[str, float]:
     s, F = np.asarray(sim["s"].values, dtype=float), np.abs(np.asarray(sim["F_z"].values, dtype=float))
     s_link = np.asarray(sim["s_link"].values, dtype=float)
     lower = (s_link > reg.s_bulk_end) & (np.asarray(sim["contact"].values) > 0)
-    out = {"has_bulk": int(reg.has_bulk and a.bulk is not None), "s_bulk_start": reg.s_bulk_start, "s_bulk_end": reg.s_bulk_end,
+    out = {"has_bulk": int(reg.has_bulk and a.bulk is not None), "s_bulk_start": reg.s_bulk_start,
+           "s_bulk_end": reg.s_bulk_end,
            "tip_length": reg.tip_length, "bulk_length": reg.bulk_length, "lower_length": reg.lower_length,
            "lower_q_mean": float(a.q[lower].mean()) if reg.has_bulk and lower.any() else 0.0,
            "lower_force_drop": float(np.interp(reg.s_bulk_end, s, F) / F[-1]) if reg.has_bulk and F[-1] > 0 else 0.0,

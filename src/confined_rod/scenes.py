@@ -73,7 +73,14 @@ class Scene:
                    the rod cannot fold down past its support; False: no floor
       protocol     'straight': straight rod + 3-D random perturbation (paper);
                    'planar': perturbation in the x-z plane only -> planar confined state;
-                   'planar_then_3d': planar equilibrium, then a 3-D perturbation (Fig 2)
+                   'planar_then_3d': planar equilibrium, then a 3-D perturbation (Fig 2);
+                   'ramp': as 'straight', but the load is raised quasi-statically, in
+                   ramp_steps geometric steps from ramp_start x Euler's load pi^2 EI/L^2 to
+                   the load, each step relaxed to equilibrium from the last;
+                   'helix': a right-handed helix on the wall (radius R - a, pitch rate of a
+                   torque-free helix carrying the full load), plus the perturbation a
+      ramp_steps   protocol 'ramp': number of load steps (default 16)
+      ramp_start   protocol 'ramp': first load over Euler's load (default 2)
       perturbation amplitude of the random lateral displacement of link centres (R)
       kick         amplitude of the out-of-plane displacement that starts the second
                    stage of 'planar_then_3d' (default 0.1 R: large enough that the
@@ -114,6 +121,8 @@ class Scene:
     protocol: str = "straight"
     perturbation: float | None = None
     kick: float | None = None
+    ramp_steps: int = 16
+    ramp_start: float = 2.0
     seed: int = 0
     l0: float | None = None
     k_ph: float | None = None
@@ -198,10 +207,56 @@ class Scene:
         t[:, 2] = 1.0
         rng = np.random.default_rng(self.seed)
         d = rng.uniform(-1.0, 1.0, size=(N, 2)) * self.perturbation
+        if self.protocol == "helix":
+            return self._helix_start(d)
         r[:, 0] += d[:, 0]
-        if self.protocol == "straight":
+        if self.protocol in ("straight", "ramp"):
             r[:, 1] += d[:, 1]
         return r, t
+
+    def _helix_start(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Right-handed helix on the wall from the support (link 0, z = 0) up: the link ends lie
+        on a helix of radius R - a (a = perturbation) with the pitch angle of a torque-free
+        helix on the wall carrying the full load, 2 EI w^2 sqrt(1 - R^2 w^2) = load (its largest
+        w beyond the helix's load limit). The links are the chords of length l0 between
+        consecutive ends, so every bond starts at its rest length (a chain of arcs would be
+        prestressed by the chord-arc difference, ~ k l0^3 w^4 R^2/24 per bond, which static
+        friction would then lock in). The seeded perturbation moves the target of each end
+        laterally by d/2; the chain is then built end to end with chords of exactly l0 towards
+        those targets, so the start is perturbed and still stress-free."""
+        from .theory import HELIX_F_MAX, helix_pitch_rate
+
+        rho = self.R - self.perturbation
+        F = min(self.load, HELIX_F_MAX * self.EI / self.R**2)
+        Rw = float(helix_pitch_rate(np.array([F]), self.R, self.EI)[0]) * self.R      # sin of the pitch angle
+        p = rho * np.sqrt(max(1.0 - Rw**2, 0.0)) / Rw                                # dz/dphi at radius rho
+        # angle step Delta with chord 4 rho^2 sin^2(Delta/2) + p^2 Delta^2 = l0^2 (bisection)
+        lo, hi = 0.0, self.l0 / p
+        for _ in range(100):
+            mid = 0.5 * (lo + hi)
+            if 4 * rho**2 * np.sin(0.5 * mid) ** 2 + (p * mid) ** 2 < self.l0**2:
+                lo = mid
+            else:
+                hi = mid
+        phi = 0.5 * (lo + hi) * np.arange(self.N + 1)
+        target = np.stack([rho * np.cos(phi), rho * np.sin(phi), p * phi], axis=1)
+        target[1:, :2] += 0.5 * d     # |d/2| <= a/sqrt(2): the targets stay inside radius R
+        ends = np.empty_like(target)
+        ends[0] = target[0]
+        for k in range(self.N):
+            step = target[k + 1] - ends[k]
+            ends[k + 1] = ends[k] + self.l0 * step / np.linalg.norm(step)
+        r = 0.5 * (ends[1:] + ends[:-1])
+        t = (ends[1:] - ends[:-1]) / self.l0
+        return r, t
+
+    def ramp_loads(self) -> np.ndarray:
+        """The loads of protocol 'ramp': geometric from ramp_start x pi^2 EI/L^2 to load (the
+        load alone if that is below the first)."""
+        first = self.ramp_start * np.pi**2 * self.EI / self.L**2
+        if first >= self.load or self.ramp_steps == 1:
+            return np.array([self.load])
+        return np.geomspace(first, self.load, self.ramp_steps)
 
     def perturb_3d(self, r: np.ndarray) -> None:
         """Second stage of 'planar_then_3d': seeded out-of-plane perturbation."""
@@ -284,6 +339,11 @@ def _validate(s: Scene) -> None:
     real("friction_cap", nonneg=True, allow_none=True)
     real("dt_factor", positive=True)
     real("tol", positive=True)
+    if isinstance(s.ramp_steps, bool) or not isinstance(s.ramp_steps, numbers.Integral) or s.ramp_steps < 1:
+        fail("ramp_steps", "must be an integer >= 1")
+    real("ramp_start", positive=True)
+    if not s.ramp_start > 1.0:
+        fail("ramp_start", "must be > 1 (the ramp starts above Euler's load, where the rod buckles)")
     if isinstance(s.max_steps, bool) or not isinstance(s.max_steps, numbers.Integral) or s.max_steps < 0:
         fail("max_steps", "must be an integer >= 0 (0: no cap)")
     if (isinstance(s.seed, bool) or not isinstance(s.seed, numbers.Integral)
@@ -317,7 +377,7 @@ def _validate(s: Scene) -> None:
         own = v is None or (isinstance(v, _Default) and source is not None and v.origin is source)
         object.__setattr__(s, key, _Default(default, origin) if own else float(v))
     object.__setattr__(s, "_origin", origin)
-    for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval"):
+    for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval", "ramp_start"):
         object.__setattr__(s, key, float(getattr(s, key)))
     object.__setattr__(s, "seed", int(s.seed))
     object.__setattr__(s, "body_force", tuple(float(v) for v in bf))

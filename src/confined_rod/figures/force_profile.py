@@ -375,7 +375,8 @@ def _build(fig_cfg, sims) -> xr.Dataset:
                      "fit_method": "scipy.optimize.curve_fit, relative residuals (sigma = |F_z|), A > 0, l0' > 0",
                      "fit_window": "joints between the first and the last link touching the wall, trimmed by fit_trim",
                      "regions": (f"confined_rod.regions: bulk = longest stretch where the axial friction utilisation, "
-                                 f"averaged over {regions.WINDOW_R:g} R, is >= {regions.Q_BULK:g}; tip before it, lower "
+                                 f"averaged over {regions.WINDOW_R:g} R, is >= {regions.Q_BULK:g}; tip before it, "
+                                 "lower "
                                  "region after it; decay rates are slopes of 1/|F_z| against s, uncertainty max(s.e., "
                                  "half the difference of the two halves)"),
                      "paper_euler_ratio": float(fig_cfg.get("paper_euler_ratio", 0.0)),

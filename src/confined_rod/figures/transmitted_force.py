@@ -173,7 +173,7 @@ def _plot_local_law(bx, ds: xr.Dataset) -> None:
     P.plain_log_ticks(bx.xaxis)
     bx.set_ylim(0, 2.4)
     bx.set_xlabel(label("L"))
-    bx.set_ylabel(r"bulk $\frac{d(1/|F_z|)/ds}{k_{fr}R/(4EI)}$")
+    bx.set_ylabel(r"bulk $d(1/|F_z|)/ds$ over $k_{fr}R/(4EI)$")
     bx.set_title("(b) local decay law in the bulk helix", fontsize=9, loc="left")
     bx.legend(loc="center right", fontsize=7.5)
 

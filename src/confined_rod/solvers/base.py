@@ -23,6 +23,7 @@ passing t_stop and returns a kernel stop code; the checks run between calls.
 """
 from __future__ import annotations
 
+import dataclasses
 import sys
 import time as _time
 from dataclasses import dataclass, field
@@ -201,6 +202,15 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
     return st
 
 
+def ramp_stage(scene: Scene, load: float) -> Scene:
+    """An intermediate stage of protocol 'ramp': the scene at a smaller load, relaxed to its tol
+    or to the round-off floor at that load, whichever is larger (the floor, normalised by the
+    load, grows as 1/load; intermediate stages only set the path, and the last stage, at the
+    full load, is relaxed to the scene's own tolerance)."""
+    return dataclasses.replace(scene, load=load, tol=min(max(scene.tol, limits.roundoff_tol(scene, load)),
+                                                         limits.TOL_MAX))
+
+
 def run_protocol(scene: Scene, make_stepper: Callable[[Scene], Stepper], *,
                  progress: bool = True) -> RunState:
     """Run the scene's protocol from its initial state with the given solver."""
@@ -214,6 +224,14 @@ def run_protocol(scene: Scene, make_stepper: Callable[[Scene], Stepper], *,
         scene.perturb_3d(st.r)
         stepper = make_stepper(scene)
         relax(scene, st, stepper, progress=progress, label=" 3-D stage")
+    elif scene.protocol == "ramp":
+        loads = scene.ramp_loads()
+        for i, F in enumerate(loads):
+            stage = scene if F == scene.load else ramp_stage(scene, float(F))
+            relax(stage, st, make_stepper(stage), progress=progress,
+                  label=f" ramp {i + 1}/{len(loads)}, load {F:.3g}")
+            if st.escaped:
+                return st
     else:
         relax(scene, st, stepper, progress=progress)
     return st
