@@ -19,7 +19,104 @@ import xarray as xr
 
 from . import measure
 
-CLASSES = ("helix", "planar", "defects")
+#: final-state classes (flag_meanings of ``member_class``; new classes are appended so that the
+#: codes of the others stay): helix (coiled, one handedness), planar (buckled in a plane along
+#: the pore axis), defects (coiled with a reversal of handedness), straight (not buckled),
+#: twisted (buckled out of any plane but not coiled: a zig-zag whose plane turns along the rod,
+#: crossing the axis between its contacts, as two of Fig 6's five L = 40 R rods jam)
+CLASSES = ("helix", "planar", "defects", "straight", "twisted")
+
+# Thresholds of final_class, all on the link centres and in units of the pore radius R.
+#: straight: every link centre within this distance of the chord through the first and the last
+#: one. An unbuckled rod deviates from its chord by the start perturbation (1e-3 R) and the wall
+#: penetration (~1e-3 R); any buckled rod in the pore by a good fraction of R. Same value as
+#: confined_rod.paths.STRAIGHT_MAX (the classes of Fig 3).
+STRAIGHT_MAX = 0.05
+#: planar: the rms spread of (x, y) across the pore along its smaller principal axis is below
+#: this. A rod buckled in a plane parallel to the axis projects onto a line across the pore,
+#: with a spread of the start perturbation (1e-3 R) plus whatever out-of-plane bow friction
+#: locked in while the shape grew: 0.02-0.06 R for the planar S-shapes of Fig 6 (L = 20 R,
+#: seeds 0 and 4; L = 40 R, seed 4). Any coil spreads in both directions: an arc on the wall of
+#: a quarter turn has 0.09 R along its smaller axis, half a turn 0.31 R, whole turns
+#: R/sqrt(2) = 0.71 R; the least-spread non-planar rods of Fig 6 have 0.25 R.
+PLANAR_RMS = 0.1
+#: off-axis: the azimuth phi = atan2(y, x) of a link centre further than this from the axis is
+#: defined to ~1e-3 rad against the perturbation and the wall penetration (~1e-3 R); near the
+#: axis it is not, and a rod crossing the axis turns phi by ~pi with no handedness.
+OFF_AXIS = 0.5
+#: a step of phi larger than this between consecutive off-axis centres is an axis crossing, not
+#: winding: a helix on the wall turns by omega l0 <= l0/R per link (|t| = 1 gives R omega <= 1),
+#: at most 1 rad for l0 <= R.
+MAX_STEP = 0.5 * np.pi
+#: handedness: |dphi/ds| at or below this (rad/R) has no sense. The slowest helix of the
+#: publication configs (Fig 7, 0.0125 EI/R^2) winds at 0.045-0.1 rad/R (5th-95th percentile),
+#: the round-off of a converged state (positions to ~1e-5 R) gives ~1e-5 rad/R, and the near
+#: straight stretch above the support of Fig 6's L = 640 R rods turns at ~0.001 rad/R (no sense).
+MIN_RATE = 0.01
+#: handedness runs shorter than this many link increments are flicker, not a helical stretch
+#: (as the defects of Fig 2, figures.transition.MIN_DEFECT_LINKS)
+MIN_RUN = 3
+#: coiled: the off-axis links wind by at least this many turns in all (sum of |dphi|, so that
+#: the two senses of a defect do not cancel). A short coil winds little: at 0.25 EI/R^2 one turn
+#: takes 2 pi/omega = 17 R of arc, and an L = 20 R rod keeps about 10 R of it between its
+#: detached ends, about 0.55 turn (Fig 6, L = 20 R, seeds 1-3: 0.54-0.55). A twisted zig-zag
+#: turns its azimuth by crossing the axis, which is not winding, and keeps 0.10-0.16 turn (Fig 6,
+#: L = 40 R, seeds 0 and 1). 0.3 lies between them with a factor of ~1.8 on either side.
+HELIX_MIN_TURNS = 0.3
+
+
+@dataclass(frozen=True)
+class Shape:
+    """The geometry final_class decides on (lengths in R)."""
+    deflection: float       # largest distance of a link centre from the chord of the first and last
+    spread_min: float       # rms of (x, y) about its mean along the smaller principal axis
+    spread_max: float       # ... and along the larger one
+    net_turns: float        # |sum of the phi increments| / 2 pi over the off-axis links
+    total_turns: float      # sum of |phi increments| / 2 pi
+    reversals: np.ndarray   # arc lengths of the reversals of handedness (measure.defects)
+
+
+def shape(sim: xr.Dataset) -> Shape:
+    """The whole rod's geometry from the link centres x, y, z (link 0 at the loaded end,
+    ``s_link`` its arc length): straightness, spread across the pore, winding and
+    reversals of handedness. Rotation about the pore axis leaves every number unchanged."""
+    R = float(sim.attrs.get("R", 1.0))
+    r = np.stack([np.asarray(sim[c].values, dtype=float) for c in "xyz"], axis=1) / R
+    s = np.asarray(sim["s_link"].values, dtype=float) / R
+    chord = r[-1] - r[0]
+    rel = r - r[0]
+    if np.linalg.norm(chord) > 0:
+        rel = rel - np.outer(rel @ chord / (chord @ chord), chord)
+    deflection = float(np.linalg.norm(rel, axis=1).max()) if len(r) else 0.0
+    xy = r[:, :2] - r[:, :2].mean(axis=0)
+    lam = np.linalg.eigvalsh(xy.T @ xy / max(len(r), 1))          # ascending
+    spread_min, spread_max = (float(np.sqrt(max(v, 0.0))) for v in lam)
+    rho = np.hypot(r[:, 0], r[:, 1])
+    phi = np.arctan2(r[:, 1], r[:, 0])
+    step = np.angle(np.exp(1j * np.diff(phi)))                  # wrapped to (-pi, pi]
+    ok = (rho[1:] > OFF_AXIS) & (rho[:-1] > OFF_AXIS) & (np.abs(step) <= MAX_STEP)
+    ds = np.diff(s)[ok]
+    rate = step[ok] / np.where(ds > 0, ds, 1.0)
+    reversals = measure.defects(0.5 * (s[1:] + s[:-1])[ok], rate, min_links=MIN_RUN, min_rate=MIN_RATE)
+    return Shape(deflection, spread_min, spread_max, float(abs(step[ok].sum()) / (2 * np.pi)),
+                 float(np.abs(step[ok]).sum() / (2 * np.pi)), reversals)
+
+
+def final_class(sim: xr.Dataset) -> str:
+    """The final state's class (CLASSES) from the geometry of the whole rod (:func:`shape`), in
+    this order: straight (every link centre within STRAIGHT_MAX of the chord), planar (spread
+    across the pore along the smaller principal axis below PLANAR_RMS), twisted (out of any
+    plane but winding less than HELIX_MIN_TURNS turns in all), defects (coiled, with a
+    reversal of handedness between stretches of >= MIN_RUN off-axis links), helix (coiled,
+    one handedness)."""
+    sh = shape(sim)
+    if sh.deflection < STRAIGHT_MAX:
+        return "straight"
+    if sh.spread_min < PLANAR_RMS:
+        return "planar"
+    if sh.total_turns < HELIX_MIN_TURNS:
+        return "twisted"
+    return "defects" if sh.reversals.size else "helix"
 
 
 @dataclass(frozen=True)
@@ -40,16 +137,6 @@ def stats(values: Iterable[float]) -> Stats:
         raise ValueError(f"ensemble values must be finite, got {v.tolist()}")
     std = float(np.std(v, ddof=1)) if v.size > 1 else 0.0
     return Stats(int(v.size), float(np.mean(v)), std, std / np.sqrt(v.size), float(v.min()), float(v.max()))
-
-
-def final_class(sim: xr.Dataset) -> str:
-    """helix (the wall-contact stretch winds at least one turn, one handedness), defects (a
-    helix with a reversal of handedness between stretches of >= 3 links) or planar (less
-    than a turn: the rod jammed or buckled without coiling)."""
-    if measure.n_turns(sim) < 1.0:
-        return "planar"
-    found = measure.defects(np.asarray(sim["s_helix"].values), np.asarray(sim["dphi_ds"].values))
-    return "defects" if len(found) else "helix"
 
 
 def member_key(params: Mapping[str, object]) -> tuple:

@@ -5,7 +5,7 @@ in a side view (x-z) and a view down the pore axis (x-y); a long rod is wrapped 
 columns of ``column_length`` R (read left to right, the loaded end at the top left), so
 the whole length stays legible. The tube is shaded by depth (y: pale at the back, dark in
 front, drawn back to front) and the pore wall is drawn at x = +-R. End contacts that are
-not part of the helix (the straight detached tips pushing on the wall) are marked.
+not part of the helix (the detached tips pushing on the wall) are marked.
 
 The dataset stores each rod's link centres, contacts and wall forces (dimension
 ``link_<scene>``), and per scene: contacts, turns, the detached lengths at both ends, the
@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .. import ensembles
 from .. import plotting as P
 from ..io import variable
 from ..measure import euler_ratio, n_turns
@@ -48,10 +49,14 @@ def caption(figure, fig_cfg, built) -> str:
             f"k_fr = {sc.k_fr:g}, drawn as tubes in the pore (wall at x = +-R, grey), shaded by depth y "
             "(pale: back, dark: front). Short rods: side view (x-z) and view down the axis (x-y); long rods: "
             f"wrapped into columns of {col:g} R, loaded end at the top left. Red: wall contacts of the detached "
-            "ends that are not part of the helix (the straight tips pushing on the wall). Load / Euler force "
-            "pi^2 EI/L^2 in each panel, with the paper's printed ratio. Friction: the paper's caption states "
-            "none; we show the frictionless equilibrium, which is unique (with k_fr = 0.8 the L/R = 20 rod "
-            "started from seed 0 jams in a planar S-shape before it coils; docs/model.md).")
+            "ends that are not part of the helix (the tips pushing on the wall). Load / Euler force "
+            "pi^2 EI/L^2 in each panel, with the paper's printed ratio, and the rod's reversals of handedness "
+            "if it has any. Friction: the paper's caption states none; we show frictionless "
+            f"equilibria reached from the straight start (seed {sc.seed}). They are not unique: without friction "
+            "too the final state depends on the start (Fig 2: frictionless seeds end with or without a reversal of "
+            "handedness), so each rod is the equilibrium of its seed, one of several. With k_fr = 0.8 the state "
+            "depends on the start further: the L/R = 20 rod started from seed 0 jams in a planar S-shape (Fig 6, "
+            "its final-state class; docs/model.md).")
 
 
 def _tips(contact: np.ndarray) -> np.ndarray:
@@ -90,7 +95,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
         for k in ("x", "y", "z", "wall_force"):
             data[f"{k}_{n}"] = variable((dim,), d[k].values, k)
         data[f"contact_{n}"] = variable((dim,), contact, "contact")
-        data[f"tip_{n}"] = xr.Variable((dim,), tip, attrs={"long_name": "wall contact of a straight detached end "
+        data[f"tip_{n}"] = xr.Variable((dim,), tip, attrs={"long_name": "wall contact of a detached end "
                                                            "(not helix)", "units": "1"})
         per["n_contact"].append(int(contact.sum()))
         per["n_turns"].append(n_turns(d))
@@ -103,6 +108,15 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     for k, v in per.items():
         data[k] = variable(("scene",), v, k if k != "n_turns" else "n_turns_scene")
     data["end_contact_force"].attrs["long_name"] = "total wall force on the tips of the detached ends"
+    # the final state from the whole rod's geometry: a frictionless rod is not necessarily one helix
+    data["final_class"] = xr.Variable(
+        ("scene",), np.array([ensembles.CLASSES.index(ensembles.final_class(sims[n])) for n in names], dtype=np.int8),
+        attrs={"long_name": "final state from the geometry of the rod (ensembles.final_class)", "units": "1",
+               "flag_values": np.arange(len(ensembles.CLASSES), dtype=np.int8),
+               "flag_meanings": " ".join(ensembles.CLASSES)})
+    data["n_reversals"] = xr.Variable(("scene",), np.array([ensembles.shape(sims[n]).reversals.size for n in names]),
+                                      attrs={"long_name": "reversals of handedness along the rod (ensembles.shape)",
+                                             "units": "1"})
     data["paper_euler_ratio"] = xr.Variable(("scene",), np.array([float(printed.get(n, 0.0)) for n in names]),
                                             attrs={**attrs("euler_ratio"), "long_name": "load / Euler force as "
                                                    "printed in the paper's caption (0: not printed)"})
@@ -180,8 +194,10 @@ def plot(ds: xr.Dataset):
         d = ds.sel(scene=n)
         r = float(d.euler_ratio)
         ratio = f"{r:,.{1 if r < 100 else 0}f}".replace(",", "{,}")  # thousands separator in mathtext
+        k = int(d.n_reversals) if "n_reversals" in d else 0
         txt = (f"({next(panel)}) $L/R = {float(d.L):g}$\n$|F_z(0)|/F_{{crit}} = {ratio}$"
-               + (f"\n(paper: {float(d.paper_euler_ratio):,g})" if float(d.paper_euler_ratio) else ""))
+               + (f"\n(paper: {float(d.paper_euler_ratio):,g})" if float(d.paper_euler_ratio) else "")
+               + (f"\n{k} reversal{'s' if k > 1 else ''} of handedness" if k else ""))
         ax.set_title(txt, fontsize=8, loc=loc)
 
     for n in short:  # side view and view down the axis

@@ -87,7 +87,8 @@ def caption(figure, fig_cfg, built) -> str:
             + "; dashed: the corrected simple model 1/(1 + k_fr R L F0/(4EI)); grey line: one half. Last panel: the "
             "length L_half at which the fraction first falls below 1/2 against the load, measured (symbols; open: a "
             "bound, the grid does not bracket it) and from the simple model, 4EI/(k_fr R F0) (lines), in the "
-            "(L/R, load) plane: left of a curve the rod passes more than half the load, right of it less; dotted: "
+            "(L/R, load) plane: left of the model's curve the rod passes more than half the load, right of it less "
+            "(a measured L_half is only where the mean fraction first falls below 1/2 on the grid); dotted: "
             "4/(3 sqrt 3) EI/R^2, the largest load a helix on the wall can carry"
             + ("" if not fig_cfg.get("thresholds") else
                f"; red: the loads above which the rod folds instead of coiling (closed entrance, as the map's "

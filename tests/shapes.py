@@ -1,0 +1,71 @@
+"""Constructed final states of a confined rod as datasets laid out as simulate() writes them:
+link 0 and s = 0 at the loaded (upper) end, z falling from about L there to 0 at the support;
+the wall-contact stretch as the helix variables phi, dphi_ds, s_helix. Units R = EI = 1."""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+L0 = 0.5  # link length
+
+
+def arc(L: float, l0: float = L0) -> np.ndarray:
+    """Arc lengths of the link centres from the loaded end."""
+    return (np.arange(int(round(L / l0))) + 0.5) * l0
+
+
+def rod(x, y, z, *, L: float, l0: float = L0, R: float = 1.0, attrs: dict | None = None, **scalars) -> xr.Dataset:
+    """A rod dataset from its link centres (in order from the loaded end). Contact: centres
+    within 0.05 R of the wall. Scalars (F_transmitted, L_z, ...) are added as given."""
+    x, y, z = (np.asarray(v, dtype=float) for v in (x, y, z))
+    s = arc(L, l0)
+    contact = (np.hypot(x, y) >= 0.95 * R).astype(np.int8)
+    idx = np.flatnonzero(contact)
+    sl = slice(idx[0], idx[-1] + 1) if idx.size >= 3 else slice(0, 0)
+    phi = np.unwrap(np.arctan2(y[sl], x[sl]))
+    dphi = np.gradient(phi, s[sl]) if phi.size >= 2 else np.zeros_like(phi)
+    data = {"x": ("link", x), "y": ("link", y), "z": ("link", z), "contact": ("link", contact),
+            "phi": ("helix", phi), "dphi_ds": ("helix", dphi)}
+    data.update({k: ((), v) for k, v in scalars.items()})
+    return xr.Dataset(data, coords={"s_link": ("link", s), "s_helix": ("helix", s[sl])},
+                      attrs={"L": L, "l0": l0, "R": R, "EI": 1.0, **(attrs or {})})
+
+
+def rotated(x, y, angle: float):
+    """(x, y) rotated about the pore axis by `angle`."""
+    c, s = np.cos(angle), np.sin(angle)
+    return c * x - s * y, s * x + c * y
+
+
+def planar_zigzag(L: float = 20.0, half_waves: int = 4, bow: float = 0.0, angle: float = 0.0,
+                  l0: float = L0, **kw) -> xr.Dataset:
+    """A rod buckled in the x-z plane (rotated by `angle` about the axis), lying on both walls
+    (x = +-R) `half_waves` times; `bow`: an out-of-plane bow in y of that amplitude."""
+    s = arc(L, l0)
+    x = np.clip(1.3 * np.sin(np.pi * half_waves * s / L), -1.0, 1.0)
+    y = bow * np.sin(np.pi * s / L)
+    x, y = rotated(x, y, angle)
+    return rod(x, y, 0.97 * (L - s), L=L, l0=l0, **kw)
+
+
+def helix(L: float = 40.0, omega: float = 0.4, tips: float = 2.0, reverse_at: float | None = None,
+          angle: float = 0.0, l0: float = L0, **kw) -> xr.Dataset:
+    """A helix on the wall, phi = omega s (one handedness), whose ends detach over `tips` R
+    towards the axis; with `reverse_at` the sense reverses there (a defect)."""
+    s = arc(L, l0)
+    phi = omega * s if reverse_at is None else omega * (reverse_at - np.abs(s - reverse_at))
+    rho = np.clip(np.minimum(s, L - s) / tips, 0.2, 1.0) if tips > 0 else np.ones_like(s)
+    x, y = rotated(rho * np.cos(phi), rho * np.sin(phi), angle)
+    return rod(x, y, 0.9 * (L - s), L=L, l0=l0, **kw)
+
+
+def straight(L: float = 20.0, tilt: float = 0.9, angle: float = 0.0, noise: float = 1e-4, seed: int = 0,
+             **kw) -> xr.Dataset:
+    """An unbuckled rod lying diagonally across the pore (x from -tilt to +tilt), with round-off
+    noise of `noise` R."""
+    s = arc(L)
+    rng = np.random.default_rng(seed)
+    x = tilt * (2 * s / L - 1) + noise * rng.standard_normal(s.size)
+    y = noise * rng.standard_normal(s.size)
+    x, y = rotated(x, y, angle)
+    return rod(x, y, np.sqrt(1 - (2 * tilt / L) ** 2) * (L - s), L=L, **kw)
