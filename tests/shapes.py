@@ -26,8 +26,14 @@ def rod(x, y, z, *, L: float, l0: float = L0, R: float = 1.0, attrs: dict | None
     dphi = np.gradient(phi, s[sl]) if phi.size >= 2 else np.zeros_like(phi)
     data = {"x": ("link", x), "y": ("link", y), "z": ("link", z), "contact": ("link", contact),
             "phi": ("helix", phi), "dphi_ds": ("helix", dphi)}
+    # the mechanics a simulation stores, here of a rod with no wall or friction force and a
+    # constant axial force (the regions and local-law measures then find no bulk helix)
+    load = float((attrs or {}).get("load", 0.25))
+    data.update({"wall_force": ("link", np.zeros(x.size)), "friction_z": ("link", np.zeros(x.size)),
+                 "friction_force": ("link", np.zeros(x.size)), "F_z": ("joint", np.full(x.size + 1, -load))})
     data.update({k: ((), v) for k, v in scalars.items()})
-    return xr.Dataset(data, coords={"s_link": ("link", s), "s_helix": ("helix", s[sl])},
+    return xr.Dataset(data, coords={"s_link": ("link", s), "s_helix": ("helix", s[sl]),
+                                    "s": ("joint", np.arange(x.size + 1) * l0)},
                       attrs={"L": L, "l0": l0, "R": R, "EI": 1.0, **(attrs or {})})
 
 
@@ -69,3 +75,13 @@ def straight(L: float = 20.0, tilt: float = 0.9, angle: float = 0.0, noise: floa
     y = noise * rng.standard_normal(s.size)
     x, y = rotated(x, y, angle)
     return rod(x, y, np.sqrt(1 - (2 * tilt / L) ** 2) * (L - s), L=L, **kw)
+
+
+def sliding_friction(F_joint, k_fr: float) -> dict:
+    """Link variables of a rod whose every link slides axially at the Coulomb limit, carrying
+    the given |F_z| profile at the joints (from the loaded end): the axial friction of a link is
+    the drop of |F_z| across it, and the wall force that friction's 1/k_fr."""
+    F = np.abs(np.asarray(F_joint, dtype=float))
+    fz = F[:-1] - F[1:]
+    return {"friction_z": ("link", fz), "friction_force": ("link", np.abs(fz)),
+            "wall_force": ("link", np.abs(fz) / k_fr)}

@@ -75,7 +75,7 @@ def _sim(L, seed, F, turns=2.0):
     phi = np.linspace(0.0, 2 * np.pi * turns, n)
     shape = (shapes.helix(L=L, omega=2 * np.pi * turns / L, tips=0.0) if turns >= 1.0
              else shapes.planar_zigzag(L=L))
-    return shape[["x", "y", "z"]].assign(
+    return shape[["x", "y", "z", "wall_force", "friction_z", "friction_force", "F_z"]].assign(
         {"F_transmitted": F, "L_z": 0.9 * L, "contact": ("link", shape["contact"].values), "phi": ("helix", phi),
          "dphi_ds": ("helix", np.full(n, 0.3)), "converged": np.int8(1), "escaped": np.int8(0),
          "residual_force": 1e-6, "wall_time": 1.0}).assign_coords(s_helix=("helix", np.linspace(0, L, n))).assign_attrs(
@@ -220,6 +220,7 @@ def _profile(seed, scale=1.0, contact=True, L=200.0, N=200, k_fr=0.8, load=0.25)
                 else shapes.planar_zigzag(L=L, half_waves=8, l0=L / N))
     return xr.Dataset(
         {"F_z": ("joint", -F), "contact": ("link", np.full(N, int(contact), np.int8)),
+         **shapes.sliding_friction(F, k_fr),
          **{c: ("link", geometry[c].values) for c in "xyz"},
          "s_helix": ("helix", np.linspace(0, L, N)), "dphi_ds": ("helix", np.full(N, 0.3)),
          "phi": ("helix", np.linspace(0, 9 if contact else 3, N)),    # 1.4 turns on the wall, or half a turn

@@ -15,6 +15,8 @@ from confined_rod.errors import ConfigError
 from confined_rod.io import check_finite
 from confined_rod.quantities import QUANTITIES, SCENE_PARAMETERS, param_text
 
+from .shapes import sliding_friction
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -111,9 +113,9 @@ def test_pitch_profile_on_a_model_helix_with_a_reversal():
     w[120:] *= -1
     phi = np.concatenate([[0.0], np.cumsum(0.5 * 0.5 * (w[1:] + w[:-1]))])
     sim = xr.Dataset({"F_z": ("joint", -F_j), "contact": ("link", np.ones(n, np.int8)), "dphi_ds": ("helix", w),
-                      "phi": ("helix", phi)},
-                     coords={"s_link": ("link", s), "s_helix": ("helix", s)},
-                     attrs={"R": 1.0, "EI": 1.0, "L": 100.0, "l0": 0.5, "load": 0.2})
+                      "phi": ("helix", phi), **sliding_friction(F_j, 0.8)},
+                     coords={"s_link": ("link", s), "s_helix": ("helix", s), "s": ("joint", np.arange(n + 1) * 0.5)},
+                     attrs={"R": 1.0, "EI": 1.0, "L": 100.0, "l0": 0.5, "load": 0.2, "k_fr": 0.8})
     ds = postprocess.build("fig5", {"kind": "pitch_profile", "title": "t"}, {"m": sim})
     assert ds.attrs["n_reversals"] == 1
     assert float(ds.s_reversal[0]) == pytest.approx(0.5 * (s[119] + s[120]))
@@ -121,6 +123,8 @@ def test_pitch_profile_on_a_model_helix_with_a_reversal():
     assert not ok[117:123].any() and ok[:117].all() and ok[123:].all()  # 2 links either side of the pair
     np.testing.assert_allclose(ds.helix_ratio.values[ok], 1.0, rtol=1e-9)
     assert 0.45 < float(ds.exponent_omega_F) < 0.6
+    # the same slope over the whole stretch and over the detected bulk (here the whole rod)
+    assert float(ds.exponent_omega_F_bulk) == pytest.approx(float(ds.exponent_omega_F_whole), abs=0.02)
     assert ds.attrs["claim_holds"] == 1 and 0 < float(ds.drop_omega) < float(ds.drop_F)
 
 
@@ -153,6 +157,7 @@ def _model_sim(L=200.0, N=200, k_fr=0.8, load=0.25, contact=True):
              if not isinstance(v, (tuple, type(None)))}
     return xr.Dataset(
         {"F_z": ("joint", -F), "contact": ("link", np.full(N, int(contact), np.int8)),
+         **sliding_friction(F, k_fr),
          "phi": ("helix", np.linspace(0, 9, N)), "F_transmitted": ((), F[-1]), "converged": ((), np.int8(1))},
         coords={"s": ("joint", s), "s_link": ("link", s_link)}, attrs={**attrs, "git_commit": "test"})
 
@@ -173,6 +178,12 @@ def test_paper_fit_comparison_is_stored_both_ways():
     assert float(other.paper_fit_fraction) == pytest.approx(2 * l0p / (2 * l0p + 200.0), rel=1e-12)
     assert float(other.paper_rms_log_ratio) > 0.1
     assert int(none.has_paper_fit) == 0 and float(none.F_paper_fit.max()) == 0.0
+    # every link slides axially at the limit: the whole rod is bulk helix, and its local decay
+    # rate is the simple model's k_fr R/(4EI) (the profile was built with it)
+    assert int(same.has_bulk) == 1 and float(same.tip_length) <= 1.0 and float(same.lower_length) <= 1.0
+    assert float(same.decay_ratio) == pytest.approx(1.0, rel=1e-6)
+    assert float(same.bulk_decay_rate) == pytest.approx(0.8 / 4.0, rel=1e-6)
+    assert float(same.fit_c_bulk) == pytest.approx(-1.0, abs=1e-6)
 
 
 def test_a_profile_without_wall_contact_is_refused():

@@ -63,14 +63,14 @@ SCENE_PARAMETERS = [
     _param("protocol", "", "start and loading: straight rod + 3-D perturbation at the full load, planar, planar "
            "then 3-D, a quasi-static load ramp (ramp), or a one-handed helix on the wall (helix)", "1",
            {"enum": ["straight", "planar", "planar_then_3d", "ramp", "helix"]}),
-    _param("ramp_steps", "n_{ramp}", "protocol ramp: number of load steps, geometric from ramp_start times "
-           "Euler's load to the load, each relaxed from the last", "1", {"type": "integer", "minimum": 1}),
-    _param("ramp_start", "F_1/F_E", "protocol ramp: first load of the ramp over Euler's load pi^2 EI/L^2", "1",
-           {"type": "number", "exclusiveMinimum": 1}),
     _param("perturbation", "a", "amplitude of the random lateral displacement of the start", "R",
            _NONNEG_OR_DEFAULT),
     _param("kick", "a_{3D}", "out-of-plane perturbation of the second stage of planar_then_3d", "R",
            _NONNEG_OR_DEFAULT),
+    _param("ramp_steps", "n_{ramp}", "protocol ramp: number of load steps, geometric from ramp_start times "
+           "Euler's load to the load, each relaxed from the last", "1", {"type": "integer", "minimum": 1}),
+    _param("ramp_start", "F_1/F_E", "protocol ramp: first load of the ramp over Euler's load pi^2 EI/L^2", "1",
+           {"type": "number", "exclusiveMinimum": 1}),
     _param("seed", r"\mathrm{seed}", "random seed of the perturbation", "1",
            {"type": "integer", "minimum": 0, "maximum": limits.SEED_MAX}),
     _param("l0", "l_0", "link length", "R", _POS_OR_DEFAULT),

@@ -149,7 +149,7 @@ def _ramp_ladder(ds: xr.Dataset, groups: dict[str, list[str]], sims) -> None:
     """Paired (same seed) relative change of F(L) from each ramp variant to the next finer one
     that differs only in ramp_steps; stored as attributes ramp_ladder_* (text and numbers)."""
     ramps = [(b, float(sims[m[0]].attrs["ramp_steps"])) for b, m in groups.items()
-             if sims[m[0]].attrs["protocol"] == "ramp"]
+             if sims[m[0]].attrs.get("protocol") == "ramp"]
     ramps.sort(key=lambda x: x[1])
     rows = []
     for (b0, n0), (b1, n1) in zip(ramps[:-1], ramps[1:]):
