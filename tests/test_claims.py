@@ -307,3 +307,23 @@ def test_boundary_wider_reads_both_ends_over_the_seeds():
     large = {f"f4/c-s{i}": _contact_sim(10, 190, i) for i in range(2)}
     ev = claims.Evidence({}, {**small, **large})
     assert claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")[1] is True
+
+
+def test_printed_decay_readings_find_the_reading_that_predicts_the_printed_rate():
+    # printed rates equal to k_fr R/(4EI) of each panel's k_fr: the corrected reading agrees;
+    # at half that, the printed C = EI/l0^2 at l0 = 0.5 R does (a rod twice as stiff)
+    def fig(factor):
+        k = np.array([0.1, 0.3, 0.8])
+        ds = xr.Dataset({"has_paper_fit": ("panel", [1, 1, 1]), "has_bulk": ("panel", [1, 1, 1]),
+                         "paper_fit_decay_rate": ("panel", factor * k / 4), "bulk_decay_rate": ("panel", k / 4),
+                         "bulk_decay_rate_err": ("panel", 0.01 * k / 4)},
+                        coords={"panel": ("panel", ["a", "b", "c"]), "panel_value": ("panel", k)},
+                        attrs={"panel_parameter": "k_fr", "k_fr": 0.8, "l0": 0.5, "EI": 1.0, "R": 1.0})
+        return claims.Evidence({"f": ds})
+    spec = {"figures": ["f"], "tol": 0.1}
+    value, holds, _, note = claims.MEASURES["printed_decay_readings"](fig(1.0), spec, "x")
+    assert holds and value == pytest.approx(1.0) and "printed/predicted = 1.00, 1.00, 1.00 (agrees)" in note
+    value, holds, _, note = claims.MEASURES["printed_decay_readings"](fig(0.5), spec, "x")
+    assert holds and value == pytest.approx(0.5) and "k_fr l0/(4EI): printed/predicted = 1.00, 1.00, 1.00 (agrees)" in note
+    value, holds, _, note = claims.MEASURES["printed_decay_readings"](fig(0.1), spec, "x")
+    assert holds and "l0 = 0.1, 0.1, 0.1 R (one l0 fits all)" in note    # the printed C at l0 = 0.1 R

@@ -312,6 +312,8 @@ _Q = SCENE_PARAMETERS + [
     Quantity("fit_rms_bulk", "", "rms relative residual of the bulk-window fit", "1"),
     Quantity("paper_rms_log_ratio_bulk", "", "rms of ln(f_paper/|F_z|) over the bulk helix (0 without a printed fit)",
              "1"),
+    Quantity("paper_fit_decay_rate", r"d(1/f)/ds", "decay rate d(1/f)/ds of the paper's printed fit over our bulk "
+             "window (0 without a printed fit or a bulk)", "R EI-1"),
     Quantity("has_fit_bulk", "", "1 where the bulk-window fit exists (a bulk, and a fit that converged)", "1"),
     Quantity("fall_whole", r"F(s_h)/F(s_e)", "factor by which |F_z| falls over the whole wall-contact stretch", "1"),
     Quantity("fall_bulk", r"F(s_b)/F(s_l)", "factor by which |F_z| falls over the bulk helix", "1"),

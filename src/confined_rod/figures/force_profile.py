@@ -264,7 +264,7 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     rows = {k: [] for k in ("F_abs", "F_fit", "in_fit", "F_simple", "F_simple_paper", "F_paper_fit")}
     link_rows = {"region": [], "q_axial": []}
     reg = {k: [] for k in REGION_KEYS + ("fit_c_bulk", "fit_c_bulk_err", "fit_rms_bulk", "has_fit_bulk", "fall_whole",
-                                          "fall_bulk", "paper_rms_log_ratio_bulk")}
+                                          "fall_bulk", "paper_rms_log_ratio_bulk", "paper_fit_decay_rate")}
     scal = {k: [] for k in ("fit_A", "fit_l0", "fit_c", "fit_cov", "fit_rms", "s_h", "s_end", "n_fit",
                             "fit_fraction", "paper_fit_A", "paper_fit_l0", "paper_fit_c", "has_paper_fit",
                             "paper_fit_fraction", "paper_fit_F0", "paper_rms_log_ratio")}
@@ -318,6 +318,9 @@ def _build(fig_cfg, sims) -> xr.Dataset:
             scal["paper_rms_log_ratio"].append(float(np.sqrt(np.mean(np.log(curve[window] / F[window]) ** 2))))
             reg["paper_rms_log_ratio_bulk"].append(float(np.sqrt(np.mean(np.log(curve[in_bulk] / F[in_bulk]) ** 2)))
                                                    if in_bulk.any() else 0.0)
+            # the local decay rate the printed curve implies over the same bulk window as ours
+            pr = regions.decay_rate(s, curve, a.regions.s_bulk_start, a.regions.s_bulk_end) if a.bulk else None
+            reg["paper_fit_decay_rate"].append(pr.rate if pr else 0.0)
             scal["paper_fit_fraction"].append(float(curve[-1] / curve[0]))
             scal["paper_fit_F0"].append(float(curve[0]))
             vals = (pf["A"], pf["l0"], pf["c"], 1)
@@ -325,6 +328,7 @@ def _build(fig_cfg, sims) -> xr.Dataset:
             curve = np.zeros_like(s)
             scal["paper_rms_log_ratio"].append(0.0)
             reg["paper_rms_log_ratio_bulk"].append(0.0)
+            reg["paper_fit_decay_rate"].append(0.0)
             scal["paper_fit_fraction"].append(0.0)
             scal["paper_fit_F0"].append(0.0)
             vals = (0.0, 0.0, 0.0, 0)
