@@ -72,6 +72,347 @@ def normalize(text: str) -> str:
     return re.sub(r"\s+", "", text).replace("_", "")
 
 
+# --- captions: plain text -> LaTeX ------------------------------------------------------------
+#
+# Captions are written as plain ASCII text by each figure kind's caption() (and the pipeline's
+# parameter list). caption_tex() typesets the notation they use and escapes everything else as
+# tex_escape() does, so an unforeseen construct prints as text instead of breaking the build.
+# The recognised notation (tests/test_caption_tex.py has an example of each):
+#   symbols with subscripts   F_z, L_z, k_fr, k_ph, k_w, s_h, L_half, beta_ph -> F_{z}, k_{\mathrm{fr}}, ...
+#                             (single-letter subscripts x, y, z, i, j, n and digits italic, others roman)
+#   letter + digit            l0, l0', q0, F0 -> l_{0}, l_{0}', q_{0}, F_{0}
+#   single-letter variables   s, x, y, z, g, c, f, L, R, C, F, K, N (A unless it starts a sentence)
+#   EI, 2EI, 4R^2             coefficients written against their symbol
+#   exponents                 R^2, x^-1, (..)^c, x^(1/2) -> R^{2}, x^{-1}, (..)^{c}, x^{1/2}
+#   functions                 F(L), f(0), |F_z(s)|, ln|F_z|, sqrt(1 - R^2 w^2), sqrt 3
+#   derivatives               dphi/ds, dL_z/dF, d(1/|F_z|)/ds -> \mathrm{d}\phi/\mathrm{d}s, ...
+#   Greek words               pi, phi, omega, theta, ... (also with subscripts: beta_ph)
+#   operators                 = + - / < > <= >= -> +- ~ -> \leq \geq \to \pm \sim (+ and - when spaced)
+#   numbers                   1e-05 -> 10^{-5}, 2.5e-3 -> 2.5\times10^{-3}, 4x -> 4\times
+#   units                     0.25 EI/R^2, 24 R -> a thin space between a number and its unit
+#   ranges                    seeds 0-4, (a)-(c) -> en dash (text)
+#   coordinate planes         x-z -> $x$--$z$
+#   identifiers and files     planar_then_3d, fig8_escape, confined_rod.regions, docs/model.md -> \texttt{...}
+#   quotes                    'straight', "word" -> `straight', ``word''
+# A maximal run of these joined by operators, spaces or nothing (2EI) is one $...$; a run that
+# is a plain number, or a panel label (a), stays text.
+
+_GREEK = ("alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "kappa", "lambda", "mu", "nu",
+          "xi", "pi", "rho", "sigma", "tau", "phi", "chi", "psi", "omega",
+          "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Phi", "Psi", "Omega")
+_GREEK_RE = "|".join(sorted(_GREEK, key=len, reverse=True))
+_SUB = r"[A-Za-z0-9]+"
+_END = r"(?![A-Za-z0-9_])"                     # an atom ends where a word would go on
+_RE = {name: re.compile(pattern) for name, pattern in {
+    "deriv": rf"d({_GREEK_RE}|[A-Za-z](?:_{_SUB})?)/d({_GREEK_RE}|[A-Za-z]){_END}",
+    "greek": rf"({_GREEK_RE})(?:_({_SUB}))?{_END}",
+    "func": r"(sqrt|ln|log|exp|sin|cos|tan)(?=[(|]| (?=[A-Za-z0-9(|]))",
+    "EI": rf"EI{_END}",
+    "sub": rf"([A-Za-z])_({_SUB}){_END}",
+    "digit": rf"([lqFfsLzk])(\d){_END}",
+    "var": r"([sxyzgcfLRCFKN])(?![A-Za-z0-9_'])|(A)(?![A-Za-z0-9_']| [a-z])",
+    "letter_exp": r"([A-Za-z])(?=\^)",
+    "number": r"(\d+(?:\.\d+)?)(?:e([+-]?\d{1,3}))?(?![\d.]\d)",
+    "times": rf"x{_END}",
+    "binop": r" *(<=|>=|->|\+-|=|<|>|~|/) *| (\+|-|\*) ",
+    "prefix": r"(<=|>=|->|\+-|=|<|>|~|-|\+) ?",
+    "exponent": r"\^(?:(-?\d+(?:\.\d+)?|-?[A-Za-z](?![A-Za-z0-9_]))|(-?)(?=\())",
+    "panel": r"\([a-h]\)(?:-\([a-h]\))?",
+    "range": r"(\d+(?:\.\d+)?)-(\d+(?:\.\d+)?)(?![\w.])",
+    "plane": rf"([xyz])-([xyz]){_END}",
+    "path": r"(?:[A-Za-z0-9_.-]+/)+[A-Za-z0-9_.-]+\.(?:md|py|nc|yaml|yml|csv|tex|txt|pdf|png|json|smk)(?![A-Za-z0-9])",
+    "ident": r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)+(?:\.[A-Za-z_][A-Za-z0-9_]*)*(?![A-Za-z0-9])",
+    "word": r"[A-Za-z0-9]+",
+}.items()}
+_OPS = {"<=": r"\leq", ">=": r"\geq", "->": r"\to", "+-": r"\pm", "~": r"\sim", "*": r"\cdot", "=": "=", "<": "<",
+        ">": ">", "/": "/", "+": "+", "-": "-"}
+_ITALIC_SUB = set("xyzijn0123456789")
+
+
+def _sub_tex(sub: str) -> str:
+    return sub if len(sub) == 1 and sub in _ITALIC_SUB or sub.isdigit() else rf"\mathrm{{{sub}}}"
+
+
+def _prefix_tex(op: str) -> str:
+    """An operator before its operand: -0.9, \\pm R, = 0.25."""
+    return _OPS[op] if op in ("-", "+") else _OPS[op] + " "
+
+
+def _number_tex(mant: str, exp: str | None) -> str:
+    if exp is None:
+        return mant
+    e = int(exp)
+    return f"10^{{{e}}}" if mant == "1" else rf"{mant}\times10^{{{e}}}"
+
+
+class _Expr:
+    """A parsed formula: its LaTeX and whether it is more than a plain number."""
+
+    def __init__(self, tex: str, math: bool, end: int):
+        self.tex, self.math, self.end = tex, math, end
+
+
+class _CaptionParser:
+    def __init__(self, text: str):
+        self.s = text
+
+    def match(self, name: str, i: int):
+        return _RE[name].match(self.s, i)
+
+    # -- formulas ---------------------------------------------------------------------------
+    def atom(self, i: int, after_number: bool = False):
+        """One operand at i: (tex, end, kind, strong) or None. kind: 'number', 'symbol' (may take
+        an argument and a prime), 'group'."""
+        s = self.s
+        if i >= len(s):
+            return None
+        if not after_number:
+            if s[i] == "(":
+                inner = self.expr(i + 1, stop=")")
+                if inner is not None and inner.end < len(s) and s[inner.end] == ")":
+                    return "(" + inner.tex + ")", inner.end + 1, "group", True
+                return None
+            if s[i] == "|":
+                inner = self.expr(i + 1, stop="|")
+                if inner is not None and inner.end < len(s) and s[inner.end] == "|":
+                    return "|" + inner.tex + "|", inner.end + 1, "group", True
+                return None
+            if s[i] == "d" and s.startswith("d(", i):     # d(1/|F_z|)/ds
+                group = self.atom(i + 1)
+                if group is not None:
+                    m = re.compile(rf"/d({_GREEK_RE}|[A-Za-z]){_END}").match(s, group[1])
+                    if m:
+                        var = "\\" + m.group(1) if m.group(1) in _GREEK else m.group(1)
+                        return rf"\mathrm{{d}}{group[0]}/\mathrm{{d}}{var}", m.end(), "symbol", True
+            m = self.match("deriv", i)
+            if m:
+                f, v = m.groups()
+                f = self._symbol(f)
+                v = "\\" + v if v in _GREEK else v
+                return rf"\mathrm{{d}}{f}/\mathrm{{d}}{v}", m.end(), "symbol", True
+            m = self.match("number", i)
+            if m:
+                if not m.group(2) and self.match("times", m.end()):
+                    return m.group(1) + r"\times", m.end() + 1, "number", True
+                return _number_tex(*m.groups()), m.end(), "number", m.group(2) is not None
+        m = self.match("func", i)
+        if m:
+            name = m.group(1)
+            j = m.end() + (1 if s[m.end()] == " " else 0)
+            arg = self.term(j)
+            if arg is None:
+                return None
+            tex, end = arg
+            if name == "sqrt":
+                if tex.startswith("(") and tex.endswith(")") and self._balanced(tex[1:-1]):
+                    tex = tex[1:-1]
+                return rf"\sqrt{{{tex}}}", end, "group", True
+            return rf"\{name}" + ("" if tex[0] in "(|" else " ") + tex, end, "group", True
+        m = self.match("EI", i)
+        if m:
+            return "EI", m.end(), "symbol", True
+        for name in ("greek", "sub", "digit"):
+            m = self.match(name, i)
+            if m:
+                return self._symbol(m.group(0)), m.end(), "symbol", True
+        m = self.match("var", i)
+        if m:
+            return m.group(1) or m.group(2), m.end(), "symbol", True
+        m = self.match("letter_exp", i)
+        if m:
+            return m.group(1), m.end(), "symbol", True
+        return None
+
+    @staticmethod
+    def _balanced(tex: str) -> bool:
+        depth = 0
+        for ch in tex:
+            depth += {"(": 1, ")": -1}.get(ch, 0)
+            if depth < 0:
+                return False
+        return depth == 0
+
+    @staticmethod
+    def _symbol(word: str) -> str:
+        m = _RE["greek"].fullmatch(word)
+        if m:
+            base, sub = "\\" + m.group(1), m.group(2)
+        elif "_" in word:
+            base, sub = word.split("_", 1)
+        elif len(word) == 2 and word[1].isdigit():
+            base, sub = word[0], word[1]
+        else:
+            return word
+        return base if sub is None else f"{base}_{{{_sub_tex(sub)}}}"
+
+    def term(self, i: int, after_number: bool = False):
+        """An operand with its postfixes (argument, prime, exponent): (tex, end) or None."""
+        a = self.atom(i, after_number)
+        if a is None:
+            return None
+        tex, j, kind, strong = a
+        self._strong = self._strong or strong
+        s = self.s
+        while j < len(s):
+            if kind == "symbol" and s[j] == "(":          # F(L), F_z(0)
+                arg = self.atom(j)
+                if arg is None or arg[2] != "group":
+                    break
+                tex, j = tex + arg[0], arg[1]
+                continue
+            if kind == "symbol" and s[j] == "'" and not s[j + 1:j + 2].isalpha():   # l0'
+                tex, j = tex + "'", j + 1
+                continue
+            m = self.match("exponent", j)
+            if m:
+                if m.group(1):
+                    tex, j = tex + f"^{{{m.group(1)}}}", m.end()
+                else:                                       # ^(1/2), ^-(..)
+                    grp = self.atom(m.end())
+                    if grp is None or grp[2] != "group" or not grp[0].startswith("("):
+                        break
+                    tex, j = tex + f"^{{{m.group(2)}{grp[0][1:-1]}}}", grp[1]
+                self._strong = True
+                continue
+            break
+        return tex, j
+
+    def expr(self, i: int, stop: str | None = None):
+        """The longest formula starting at i (None if there is none). Inside a group (stop is
+        ')' or '|') it must reach the closing character."""
+        s = self.s
+        saved = getattr(self, "_strong", False)
+        self._strong = False
+        parts: list[str] = []
+        m = self.match("prefix", i)
+        if m and (m.group(1) in _OPS):
+            first = self.term(m.end())
+            if first is None:
+                if stop is not None or m.group(1) in ("-", "+"):
+                    self._strong = saved
+                    return None
+                self._strong = saved
+                return _Expr(_OPS[m.group(1)], True, i + len(m.group(1)))
+            parts += [_prefix_tex(m.group(1)), first[0]]
+            self._strong = True
+            j = first[1]
+        else:
+            first = self.term(i)
+            if first is None:
+                self._strong = saved
+                return None
+            parts.append(first[0])
+            j = first[1]
+        last_number = self._is_number(parts[-1])
+        n_terms = 1
+        while j < len(s):
+            if stop is not None and s[j] == stop:
+                break
+            m = self.match("binop", j)
+            if m:
+                op = m.group(1) or m.group(2)
+                nxt = self.match("prefix", m.end())
+                k = m.end()
+                unary = ""
+                if nxt and nxt.group(1) in ("-", "+-") and op != "/" and not nxt.group(0).endswith(" "):
+                    unary, k = _prefix_tex(nxt.group(1)), nxt.end()
+                t = self.term(k)
+                if t is None:
+                    break
+                parts += [f" {_OPS[op]} " if op != "/" else "/", unary + t[0]]
+                self._strong = True
+                j, n_terms = t[1], n_terms + 1
+                last_number = self._is_number(t[0]) and not unary
+                continue
+            if last_number:                                # 2EI, 4R^2
+                t = self.term(j, after_number=True)
+                if t is not None:
+                    parts.append(t[0])
+                    self._strong = True
+                    j, n_terms, last_number = t[1], n_terms + 1, False
+                    continue
+            if s[j] == " ":                                 # k_fr R L, 0.25 EI/R^2
+                k = j + 1
+                t = self.term(k) if self._may_follow(k) else None
+                if t is not None:
+                    parts += [r"\,", t[0]]
+                    self._strong = True
+                    j, n_terms, last_number = t[1], n_terms + 1, self._is_number(t[0])
+                    continue
+            break
+        if stop is None and j < len(s) and re.match(r"[A-Za-z0-9_]", s[j]):
+            self._strong = saved                # a formula cannot end inside a word (919d2e5...)
+            return None
+        strong = self._strong
+        self._strong = saved
+        return _Expr("".join(parts), strong, j)
+
+    def _may_follow(self, k: int) -> bool:
+        """After a space, an operand may follow unless it opens a text bracket or is a panel label."""
+        return k < len(self.s) and not self.match("panel", k)
+
+    @staticmethod
+    def _is_number(tex: str) -> bool:
+        return bool(re.fullmatch(r"\d+(?:\.\d+)?", tex))
+
+    # -- the caption ----------------------------------------------------------------------------
+    def convert(self) -> str:
+        s, out, i = self.s, [], 0
+        while i < len(s):
+            prev = s[i - 1] if i else " "
+            at_word_start = not (prev.isalnum() or prev in "_'.")
+            m = self.match("panel", i)
+            if m:
+                out.append(tex_escape(m.group(0)).replace(")-(", ")--("))
+                i = m.end()
+                continue
+            if at_word_start:
+                m = self.match("path", i) or self.match("ident", i)
+                if m:                                   # unless it is a symbol: k_fr, beta_ph, dL_z/dF
+                    self._strong = False
+                    e = self.expr(i)
+                    if e is None or not e.math or e.end < m.end():
+                        out.append(r"\texttt{" + tex_escape(m.group(0)) + "}")
+                        i = m.end()
+                        continue
+                m = self.match("range", i)
+                if m:
+                    out.append(f"{m.group(1)}--{m.group(2)}")
+                    i = m.end()
+                    continue
+                m = self.match("plane", i)
+                if m:
+                    out.append(f"${m.group(1)}$--${m.group(2)}$")
+                    i = m.end()
+                    continue
+                self._strong = False
+                e = self.expr(i)
+                if e is not None and e.end > i:
+                    out.append(f"${e.tex}$" if e.math else tex_escape(s[i:e.end]))
+                    i = e.end
+                    continue
+                if s[i] == "'" and i + 1 < len(s) and not s[i + 1].isspace():
+                    out.append("`")
+                    i += 1
+                    continue
+            if s[i] == '"':
+                out.append("``" if at_word_start else "''")
+                i += 1
+                continue
+            m = self.match("word", i)
+            j = m.end() if m else i + 1
+            out.append(tex_escape(s[i:j]))
+            i = j
+        return "".join(out)
+
+
+def caption_tex(text: str) -> str:
+    """A plain-text caption as LaTeX: its formulas in math mode, everything else escaped as by
+    tex_escape (refuses non-ASCII text like tex_escape)."""
+    tex_escape(text)                            # the same refusal of non-ASCII characters
+    return _CaptionParser(text).convert()
+
+
 def _key(name: str) -> str:
     if not re.fullmatch(r"[A-Za-z0-9_.:-]+", name):
         raise ValueError(f"macro key {name!r}: letters, digits, _ . : - only")
@@ -189,10 +530,42 @@ def readings_table(verdicts: Iterable[Verdict]) -> str:
 
 
 def provenance(figure: str, ds: xr.Dataset, config_name: str) -> str:
-    """One sentence: config, git commit, the dataset file."""
+    """One sentence of LaTeX: config, git commit, the dataset file (file names, commit and package
+    in typewriter type)."""
     commit = str(ds.attrs.get("git_commit", "unknown"))[:12]
-    return (f"Provenance: config {config_name}, git commit {commit}, dataset results/datasets/{figure}.nc "
-            f"(confined_rod {ds.attrs.get('confined_rod_version', '?')}).")
+
+    def tt(text: str) -> str:
+        return r"\texttt{" + tex_escape(text) + "}"
+    return (f"Provenance: config {tt(config_name)}, git commit {tt(commit)}, dataset "
+            f"{tt(f'results/datasets/{figure}.nc')} ({tt('confined_rod')} "
+            f"{tex_escape(str(ds.attrs.get('confined_rod_version', '?')))}).")
+
+
+#: REVTeX 4.2 (pre, twocolumn): \textwidth and \textheight in TeX points (tests/test_caption_tex.py
+#: checks them against pdflatex). A figure is included at its natural size, scaled down only if it
+#: is wider than \textwidth or taller than FIGURE_MAX_HEIGHT \textheight (figure_scale()).
+TEXTWIDTH_PT = 510.0
+TEXTHEIGHT_PT = 672.0
+FIGURE_MAX_HEIGHT = 0.62
+_BP_PER_PT = 72.0 / 72.27          # PDF (and matplotlib) points are big points, 1/72 in
+
+
+def figure_scale(width_bp: float, height_bp: float) -> float:
+    """The factor by which figures.tex prints a figure whose PDF is width_bp x height_bp big points."""
+    return min(1.0, TEXTWIDTH_PT * _BP_PER_PT / width_bp,
+               FIGURE_MAX_HEIGHT * TEXTHEIGHT_PT * _BP_PER_PT / height_bp)
+
+
+#: \crfigure{file}: the figure at its natural size, capped at \textwidth and at
+#: FIGURE_MAX_HEIGHT \textheight (keeping its aspect ratio); lengths of its own, since graphicx
+#: uses the scratch registers
+FIGURE_MACRO = "%\n".join([
+    r"\ifdefined\crfigwidth\else\newlength{\crfigwidth}\newlength{\crfigheight}\fi",
+    r"\providecommand{\crfigure}[1]{\begingroup\sbox0{\includegraphics{#1}}",
+    r"\setlength{\crfigwidth}{\wd0}\ifdim\crfigwidth>\textwidth\setlength{\crfigwidth}{\textwidth}\fi",
+    rf"\setlength{{\crfigheight}}{{\ht0}}\ifdim\crfigheight>{FIGURE_MAX_HEIGHT}\textheight",
+    rf"\setlength{{\crfigheight}}{{{FIGURE_MAX_HEIGHT}\textheight}}\fi",
+    r"\includegraphics[width=\crfigwidth,height=\crfigheight,keepaspectratio]{#1}\endgroup}"]) + "%"
 
 
 def figures_tex(order: list[tuple[str, int | None]], captions: Mapping[str, str],
@@ -200,11 +573,10 @@ def figures_tex(order: list[tuple[str, int | None]], captions: Mapping[str, str]
     """One float per figure (paper figures first, in the paper's order), each with its caption
     and provenance, labelled fig:<name>; and \\figref{name}, which names a figure of the
     config or says that this config does not build it."""
-    out = ["% GENERATED by confined_rod.paper. Do not edit."]
+    out = ["% GENERATED by confined_rod.paper. Do not edit.", FIGURE_MACRO]
     for name, paper_figure in order:
-        cap = tex_escape(captions[name]) + " " + tex_escape(provenance(name, datasets[name], config_name))
-        out += [r"\begin{figure*}[p]", r"\centering",
-                rf"\includegraphics[width=\linewidth,height=0.62\textheight,keepaspectratio]{{{name}.pdf}}",
+        cap = caption_tex(captions[name]) + " " + provenance(name, datasets[name], config_name)
+        out += [r"\begin{figure*}[p]", r"\centering", rf"\crfigure{{{name}.pdf}}",
                 rf"\caption{{{cap}}}", rf"\label{{fig:{name}}}", r"\end{figure*}", ""]
     return "\n".join(out) + "\n"
 

@@ -21,11 +21,24 @@ import xarray as xr  # noqa: E402
 from .io import check_finite  # noqa: E402
 from .quantities import param_text  # noqa: E402
 
+#: Figures are drawn at the size they are printed at: the manuscript includes each at its natural
+#: size (paper.figure_scale: scaled down only if wider than the text width, TEXT_WIDTH_IN, or taller
+#: than MAX_HEIGHT_IN), and no text in it may be smaller than MIN_FONT_PT there
+#: (tools/check_figure_text.py checks every figure of a config).
+TEXT_WIDTH_IN = 7.0
+MAX_HEIGHT_IN = 5.7
+MIN_FONT_PT = 7.0
+#: the size of small print (annotations, cell texts, dense legends): the smallest allowed
+SMALL = MIN_FONT_PT
 STYLE = {
     "font.family": "serif",
     "mathtext.fontset": "dejavuserif",
-    "font.size": 10,
-    "axes.labelsize": 10,
+    "font.size": 9,
+    "axes.labelsize": 9,
+    "axes.titlesize": 9,
+    "figure.titlesize": 9,
+    "xtick.labelsize": 8.5,
+    "ytick.labelsize": 8.5,
     "legend.fontsize": 8,
     "legend.frameon": False,
     "xtick.direction": "in",
@@ -42,8 +55,8 @@ PAPER = dict(color="0.45", ls=":", lw=1.2)
 #: the paper's printed fit, drawn beside ours
 PAPER_FIT = dict(color="tab:orange", ls="-.", lw=1.3)
 
-__all__ = ["plt", "np", "STYLE", "SIM", "FIT", "MODEL", "PAPER", "PAPER_FIT", "plot", "plain_log_ticks",
-           "params_text", "bottom_legend"]
+__all__ = ["plt", "np", "STYLE", "TEXT_WIDTH_IN", "MAX_HEIGHT_IN", "MIN_FONT_PT", "SMALL", "SIM", "FIT", "MODEL",
+           "PAPER", "PAPER_FIT", "plot", "plain_log_ticks", "params_text", "bottom_legend"]
 
 
 def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:

@@ -186,7 +186,8 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
 
 
 def plot(ds: xr.Dataset):
-    fig, (ax, bx) = P.plt.subplots(1, 2, figsize=(10.5, 4.2), gridspec_kw={"width_ratios": [1.5, 1]})
+    # printed at its natural size, the text width (plotting.TEXT_WIDTH_IN); the legend of (a) below both panels
+    fig, (ax, bx) = P.plt.subplots(1, 2, figsize=(P.TEXT_WIDTH_IN, 3.3), gridspec_kw={"width_ratios": [1.5, 1]})
     loads = ds["load"].values
     classes = ds.state_class.attrs["flag_meanings"].split()
     for i, b in enumerate(ds.branch.values):
@@ -218,7 +219,7 @@ def plot(ds: xr.Dataset):
     P.plain_log_ticks(ax.xaxis)
     ax.set_xlabel(label("load"))
     ax.set_ylabel(label("L_z"))
-    ax.set_title(f"(a) L/R = {ds.attrs['main_aspect']:g}", loc="left", fontsize=10)
+    ax.set_title(f"(a) $L/R = {ds.attrs['main_aspect']:g}$", loc="left")
     from matplotlib.lines import Line2D
 
     handles, _ = ax.get_legend_handles_labels()
@@ -231,9 +232,8 @@ def plot(ds: xr.Dataset):
     if "planar" in set(map(str, ds.branch_protocol.values)):
         handles.append(Line2D([], [], ls="--", color="0.6", label="planar-only sweep (protocol planar)"))
     if np.any(ds.branch_k_fr.values > 0):
-        handles.append(Line2D([], [], ls=":", color="0.6", label="with friction (k_fr = "
+        handles.append(Line2D([], [], ls=":", color="0.6", label=r"with friction ($k_{fr}$ = "
                               + ", ".join(f"{v:g}" for v in sorted(set(ds.branch_k_fr.values)) if v > 0) + ")"))
-    ax.legend(handles=handles, fontsize=6.5, loc="lower left", ncol=1)
     # (b) thresholds against L/R
     a = ds["aspect"].values
     order = np.argsort(a)
@@ -250,7 +250,9 @@ def plot(ds: xr.Dataset):
     P.plain_log_ticks(bx.xaxis)
     bx.set_xlabel(label("aspect"))
     bx.set_ylabel(r"threshold load $\times\ L^2/EI$")
-    bx.set_title("(b) thresholds against L/R", loc="left", fontsize=10)
-    bx.legend(fontsize=7)
+    bx.set_title("(b) thresholds against $L/R$", loc="left")
+    bx.legend(fontsize=P.SMALL)
     fig.tight_layout()
+    # below the panels (the saved figure's tight bounding box takes it in)
+    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=3, fontsize=P.SMALL)
     return fig

@@ -182,13 +182,20 @@ def _with_boundary(ds: xr.Dataset, name: str, datasets) -> xr.Dataset:
 
 
 def plot(ds: xr.Dataset):
+    """One panel per k_fr and the map in the (L/R, load) plane, up to three panels a row at the text
+    width (printed at its natural size); the legends below the panels (the map's in a free panel slot
+    where the grid has one)."""
     k_frs = ds["k_fr"].values
     loads = ds["load"].values
-    fig, axes = P.plt.subplots(1, len(k_frs) + 1, figsize=(3.0 * (len(k_frs) + 1) + 2.0, 3.3), squeeze=False,
+    n = len(k_frs) + 1
+    ncol = min(3, n)
+    nrow = -(-n // ncol)
+    fig, axes = P.plt.subplots(nrow, ncol, figsize=(P.TEXT_WIDTH_IN, 2.45 * nrow), squeeze=False,
                                label=ds.attrs["title"])
+    flat = list(axes.ravel())
     colors = P.plt.get_cmap("viridis")(np.linspace(0.0, 0.85, len(loads)))
     L = ds["L"].values
-    for ax, k in zip(axes[0], range(len(k_frs))):
+    for ax, k in zip(flat, range(len(k_frs))):
         for j, c in enumerate(colors):
             f = ds["fraction"].values[:, j, k]
             ok = ds["converged"].values[:, j, k] == 1
@@ -202,22 +209,35 @@ def plot(ds: xr.Dataset):
         P.log_axes(ax)
         ax.set_xlabel(label("L"))
         ax.set_ylabel(r"$|F_z(L)|/|F_z(0)|$")
-        ax.set_title(rf"$k_{{fr}} = {k_frs[k]:g}$", fontsize=9)
-    _plane(axes[0][-1], ds)
-    handles, labels = axes[0][0].get_legend_handles_labels()
+        ax.set_title(rf"$k_{{fr}} = {k_frs[k]:g}$")
+    plane = flat[n - 1]
+    plane_handles, plane_labels = _plane(plane, ds)
+    for ax in flat[n:]:
+        ax.axis("off")
+    handles, labels = flat[0].get_legend_handles_labels()
     handles += [Line2D([], [], ls="--", color="black", lw=1.0), Line2D([], [], color="0.6", lw=0.8)]
-    labels += [r"corrected simple model $1/(1 + k_{fr} R L F_0/(4EI))$", "one half"]
+    labels += ["corrected simple model (dashed)", "one half"]
     if (ds["converged"].values != 1).any():
         handles.append(Line2D([], [], ls="", marker="o", ms=4, mfc="white", mec="black"))
         labels.append("open: not converged")
-    fig.legend(handles, labels, loc="lower center", ncol=len(labels), bbox_to_anchor=(0.5, -0.01), fontsize=7.5)
-    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.tight_layout()
+    # below the panels (the saved figure's tight bounding box takes them in)
+    left = flat[0].get_position().x0
+    fig.legend(handles, labels, loc="upper left", bbox_to_anchor=(left, 0.0), ncol=2 if n > 2 else 1,
+               fontsize=P.SMALL)
+    if n < len(flat):
+        flat[n].legend(plane_handles, plane_labels, loc="center right", bbox_to_anchor=(1.0, 0.5), fontsize=P.SMALL,
+                       borderaxespad=0.0)
+    else:
+        fig.legend(plane_handles, plane_labels, loc="upper right", bbox_to_anchor=(plane.get_position().x1, 0.0),
+                   fontsize=P.SMALL)
     return fig
 
 
-def _plane(ax, ds: xr.Dataset) -> None:
+def _plane(ax, ds: xr.Dataset) -> tuple[list, list]:
     """The map in the (L/R, load) plane: L_half(load) measured and modelled per k_fr, the
-    helix limit, and (where the dataset has them) the measured fold/escape thresholds."""
+    helix limit, and (where the dataset has them) the measured fold/escape thresholds. Returns its
+    legend's handles and labels."""
     loads = ds["load"].values
     markers = "osD^v"
     for k, k_fr in enumerate(ds["k_fr"].values):
@@ -251,9 +271,9 @@ def _plane(ax, ds: xr.Dataset) -> None:
     ax.set_ylim(0.5 * loads.min(), 1.6 * top)
     ax.set_xlabel(label("L"))
     ax.set_ylabel(label("load"))
-    ax.set_title(r"map: $L_{1/2}$ and the fold boundary", fontsize=9)
+    ax.set_title(r"map: $L_{1/2}$ and the fold boundary")
     handles, labels = ax.get_legend_handles_labels()
     if (ds["L_half_how"].values != 0).any():
         handles.append(Line2D([], [], ls="", marker="o", ms=5, mfc="white", mec="black"))
         labels.append("open: a bound, the grid does not\nbracket $L_{1/2}$ (arrow: where it lies)")
-    ax.legend(handles, labels, fontsize=6.5, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+    return handles, labels

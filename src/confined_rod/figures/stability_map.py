@@ -113,8 +113,12 @@ def plot(ds: xr.Dataset):
     params = list(dict.fromkeys(ds["parameter"].values))
     ncol = max(int(np.sum((ds["solver"].values == sv) & (ds["parameter"].values == p)))
                for sv in solvers for p in params)
-    fig, axes = P.plt.subplots(len(solvers), 1, figsize=(1.25 * ncol + 1.6, 0.42 * len(params) * len(solvers) + 1.6),
-                             squeeze=False, label=ds.attrs["title"])
+    rows = [len({p for p in params if np.any((ds["solver"].values == sv) & (ds["parameter"].values == p))})
+            for sv in solvers]
+    # printed at its natural size: at most the text width (plotting.TEXT_WIDTH_IN), rows of 0.27 in
+    size = (min(P.TEXT_WIDTH_IN, 0.85 * ncol + 1.7), 0.27 * sum(rows) + 1.3)
+    fig, axes = P.plt.subplots(len(solvers), 1, figsize=size, squeeze=False, label=ds.attrs["title"],
+                               gridspec_kw={"height_ratios": rows})
     row_label = {"base": "defaults", "dx_max": r"$dx_{max}$ [$R$]", "dt_factor": r"$\Delta t/\Delta t_{stab}$",
                  "tol": r"tol ($\epsilon_F$, $\epsilon_M$)"}
     for ax, sv in zip(axes[:, 0], solvers):
@@ -129,7 +133,7 @@ def plot(ds: xr.Dataset):
                 txt = "defaults" if p == "base" else f"{float(ds['value'].values[i]):g}"
                 if int(ds["has_force"].values[i]):
                     txt += f"\n{float(ds['F_transmitted'].values[i]):.3g}"
-                ax.text(col + 0.475, row + 0.45, txt, ha="center", va="center", fontsize=6.5)
+                ax.text(col + 0.475, row + 0.45, txt, ha="center", va="center", fontsize=P.SMALL, linespacing=1.0)
         ax.set_xlim(0, ncol)
         ax.set_ylim(len(params), 0)
         ax.set_yticks(np.arange(len(params)) + 0.45)
@@ -141,8 +145,9 @@ def plot(ds: xr.Dataset):
         ax.set_title(f"{sv} solver (cell: value of the swept parameter; below it $|F_z(L)|$ [$EI/R^2$])",
                      fontsize=8, loc="left")
     handles = [Patch(color=STATUS_COLOURS[k], label=k.replace("_", " ")) for k in meanings]
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), bbox_to_anchor=(0.5, -0.01))
     base = ", ".join(f"{k} = {ds.attrs[k]}" for k in ("L", "load", "k_fr", "l0", "t_max") if k in ds.attrs)
-    fig.suptitle(f"stability stress map, one parameter at a time about {base}", fontsize=9)
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    fig.suptitle(f"stability stress map, one parameter at a time about {base}")
+    fig.tight_layout()
+    # below the panels (the saved figure's tight bounding box takes it in)
+    fig.legend(handles=handles, loc="upper center", ncol=(len(handles) + 1) // 2, bbox_to_anchor=(0.5, 0.0))
     return fig

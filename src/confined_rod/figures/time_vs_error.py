@@ -85,7 +85,7 @@ def plot(ds: xr.Dataset):
         # neighbouring rungs can nearly coincide: labels alternate above and below
         for n, (e, w, kv) in enumerate(zip(err[m][order], wall[m][order], knob[m][order])):
             ax.annotate(f"{kv:g}", (e, w), xytext=(4, 3 if n % 2 == 0 else -9), textcoords="offset points",
-                        fontsize=6.5, color=colours[j % len(colours)])
+                        fontsize=P.SMALL, color=colours[j % len(colours)])
     ax.set_xscale("log")
     ax.set_yscale("log")
     P.plain_log_ticks(ax.yaxis)
@@ -96,7 +96,7 @@ def plot(ds: xr.Dataset):
              f"{ds.attrs['reference_solver']}, $l_0 = {float(ds.attrs['reference_l0']):g}\\,R$, "
              f"{ds.attrs['reference_knob']} ({float(ds.attrs['reference_wall_time']):.3g} s).\n"
              "Point labels: $dx_{max}$ [R] (implicit), tol (explicit). Wall time of one simulate job.",
-             ha="left", va="top", fontsize=7)
+             ha="left", va="top", fontsize=P.SMALL)
     ax.legend(loc="best")
     return fig
 

@@ -126,7 +126,8 @@ def plot(ds: xr.Dataset):
     from matplotlib.gridspec import GridSpec
 
     R = float(ds.attrs.get("R", 1.0))
-    fig = P.plt.figure(figsize=(7.2, 6.6))
+    # printed at its natural size: within the text width and plotting.MAX_HEIGHT_IN
+    fig = P.plt.figure(figsize=(P.TEXT_WIDTH_IN, 6.2))
     gs = GridSpec(4, 1, figure=fig, height_ratios=[1, 1, 1, 1.6], hspace=0.75)
     titles = {"a": "planar state (end of the planar stage)", "b": "out-of-plane instability growing",
               "c": "final state"}
@@ -156,7 +157,7 @@ def plot(ds: xr.Dataset):
         bx.bar(np.arange(len(seeds)) + (j - (len(states) - 1) / 2) * w, n[:, j], width=w, color=colours[j],
                label=lab)
     shown = list(ds["scene"].values).index(ds.attrs["shown"])
-    bx.annotate("drawn", (shown, n[shown].max() + 0.1), ha="center", fontsize=7)
+    bx.annotate("drawn", (shown, n[shown].max() + 0.1), ha="center", fontsize=P.SMALL)
     bx.set_xticks(np.arange(len(seeds)), [str(s) for s in seeds])
     bx.set_xlabel("seed")
     bx.set_ylabel("defects")
@@ -165,5 +166,5 @@ def plot(ds: xr.Dataset):
 
     bx.yaxis.set_major_locator(MaxNLocator(integer=True))
     bx.set_title(f"(d) ensemble: the drawn run is {ds.attrs['shown_is']}", fontsize=8.5, loc="left")
-    bx.legend(fontsize=7, ncol=len(states), loc="upper right")
+    bx.legend(fontsize=P.SMALL, ncol=len(states), loc="upper right")
     return fig
