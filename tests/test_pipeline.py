@@ -16,6 +16,8 @@ import yaml
 from confined_rod import Scene, pipeline, plotting, postprocess, theory
 from confined_rod.io import write_dataset
 
+from .shapes import sliding_friction
+
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = yaml.safe_load((ROOT / "workflow/schemas/config.schema.yaml").read_text())
 CONFIGS = [ROOT / "config/config.yaml", ROOT / "config/ci.yaml"]
@@ -124,7 +126,7 @@ def fake_sim(L, k_fr, load=0.25, N=100, s_h=2.0, F_end=None):
     attrs = dict(Scene(L=L, k_fr=k_fr, load=load, l0=L / N).to_dict())
     attrs = {k: v for k, v in attrs.items() if not isinstance(v, (tuple, type(None)))}
     return xr.Dataset(
-        {"F_z": ("joint", -F), "contact": ("link", contact), "phi": ("helix", phi),
+        {"F_z": ("joint", -F), "contact": ("link", contact), "phi": ("helix", phi), **sliding_friction(F, k_fr),
          "F_transmitted": ((), F[-1] if F_end is None else F_end), "L_z": ((), 0.9 * L),
          "converged": ((), np.int8(1)), "escaped": ((), np.int8(0)), "residual_force": ((), 1e-6),
          "wall_time": ((), 1.0)},
@@ -144,6 +146,9 @@ def test_force_profile_fit_recovers_the_simple_model():
         assert float(d.fit_l0) == pytest.approx(-theory.critical_length(0.25, k_fr) - 2.0, rel=1e-5)
         np.testing.assert_allclose(d.F_simple, d.F_abs, rtol=1e-12)
         assert float(d.panel_value) == k_fr
+        # the contact stretch from s_h on is all bulk helix, decaying by the corrected local law
+        assert int(d.has_bulk) == 1 and float(d.decay_ratio) == pytest.approx(1.0, rel=1e-6)
+        assert float(d.s_bulk_start) == pytest.approx(2.0, abs=0.5 * 4.0 + 2.0)
     np.testing.assert_allclose(ds.F_simple_paper.values[:, 0], 0.25)
     assert float(ds.F_simple_paper.isel(panel=1)[-1]) < float(ds.F_simple.isel(panel=1)[-1])
     for name, var in ds.variables.items():

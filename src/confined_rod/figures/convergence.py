@@ -364,7 +364,7 @@ def plot(ds: xr.Dataset):
     """One panel per observable against the refinement variable h (log axis): the
     rungs, the Richardson limit, the tolerance band about it and the publication rung."""
     obs = [k for k in OBSERVABLES if k in ds]
-    fig, axes = P.plt.subplots(1, len(obs), figsize=(2.7 * len(obs) + 0.4, 3.0), squeeze=False,
+    fig, axes = P.plt.subplots(1, len(obs), figsize=(min(7.0, 2.2 * len(obs) + 0.4), 3.0), squeeze=False,
                                label=ds.attrs["title"])
     h = ds["h"].values
     param = ds.attrs["parameter"]

@@ -192,7 +192,7 @@ def plot(ds: xr.Dataset):
 
     R, L, top = (float(ds.attrs[k]) for k in ("event_R", "event_L", "event_pore_length"))
     escaped = bool(ds.attrs["event_escaped"])
-    fig = P.plt.figure(figsize=(7.2, 7.4))
+    fig = P.plt.figure(figsize=(7.0, 6.4))
     gs = GridSpec(4, 2, figure=fig, height_ratios=[1, 1, 1, 2.3], hspace=0.85, wspace=0.42)
     back = escaped and float(ds.frame_outside_radius.values[-1]) <= 1.0
     titles = ({"a": "our constructed event: the span bowing", "b": "a loop out of the pore",
@@ -238,7 +238,7 @@ def plot(ds: xr.Dataset):
     bx.set_xlabel(label("aspect"))
     bx.set_ylabel(r"threshold load $\times\ R^2/EI$")
     bx.set_title("(d) against L/R", fontsize=8.5, loc="left")
-    bx.legend(fontsize=5.5, ncol=2, loc="upper left")
+    bx.legend(fontsize=P.SMALL, ncol=2, loc="upper left")
 
     cx = fig.add_subplot(gs[3, 1])
     scan = g > 0
@@ -257,7 +257,7 @@ def plot(ds: xr.Dataset):
         cx.set_xscale("log")
         cx.set_yscale("log")
         P.plain_log_ticks(cx.xaxis)
-        cx.legend(fontsize=6, loc="lower left")
+        cx.legend(fontsize=P.SMALL, loc="lower left")
     cx.set_xlabel(r"free span $g$ [$R$]")
     cx.set_ylabel(r"threshold load $\times\ R^2/EI$")
     cx.set_title("(e) against the free span", fontsize=8.5, loc="left")

@@ -421,10 +421,10 @@ def _plot_local_law(ax, d, s, i: int) -> None:
 
 def plot(ds: xr.Dataset):
     n = ds.sizes["panel"]
-    width = 7.0 if n > 1 else 4.6
+    width = 6.8 if n > 1 else 4.6
     local = "bulk_decay_rate" in ds
     rows = 2 if local else 1
-    fig, all_axes = P.plt.subplots(rows, n, figsize=(width, 3.6 + 2.4 * (rows - 1)), squeeze=False,
+    fig, all_axes = P.plt.subplots(rows, n, figsize=(width, 3.3 + 2.2 * (rows - 1)), squeeze=False,
                                    label=ds.attrs["title"], gridspec_kw={"height_ratios": [3, 2][:rows]})
     axes = all_axes[:1]
     for ax in axes[0][1:]:
@@ -452,14 +452,14 @@ def plot(ds: xr.Dataset):
                     f"$c = {float(d.fit_c):.3f}$; seeds: ${float(d.fit_c_mean):.3f} \\pm {float(d.fit_c_std):.3f}$\n"
                     f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f} \\pm {float(d.fraction_std):.3f}$\n"
                     f"(mean $\\pm$ s.d. of {int(d.n_seeds)} seeds)")
-        ax.text(0.04, 0.04, text, transform=ax.transAxes, ha="left", va="bottom", fontsize=7, color=P.FIT["color"])
+        ax.text(0.04, 0.04, text, transform=ax.transAxes, ha="left", va="bottom", fontsize=7.5, color=P.FIT["color"])
         if int(d.has_paper_fit):
             ax.plot(s, d["F_paper_fit"], **P.PAPER_FIT, label="paper's printed fit")
             # with an ensemble our block is wider: the paper's goes above it instead of beside it
             x, y, ha = (0.04, 0.33, "left") if "shown_seed" in ds else (0.97, 0.04, "right")
             ax.text(x, y, f"paper: $A = {float(d.paper_fit_A):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$, "
                     f"$c = {float(d.paper_fit_c):g}$\n$f(L)/f(0) = {float(d.paper_fit_fraction):.3f}$",
-                    transform=ax.transAxes, ha=ha, va="bottom", fontsize=7, color=P.PAPER_FIT["color"])
+                    transform=ax.transAxes, ha=ha, va="bottom", fontsize=7.5, color=P.PAPER_FIT["color"])
         ax.set_yscale("log")
         # shared y range: every curve, with room below them for the two text blocks
         low = min(float(ds["F_abs"].min()), float(ds["F_simple_paper"].min()))

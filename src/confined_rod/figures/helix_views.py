@@ -244,7 +244,7 @@ def plot(ds: xr.Dataset):
                 lc = _tube(ax, x[m] + k * step, z[m] - hi, y[m], R, lw=1.5)
             mt = m & tip
             ax.plot(x[mt] + k * step, z[mt] - hi, "o", color="tab:red", ms=3, zorder=4)
-            ax.text(k * step, 1.0, f"{hi:.0f}", ha="center", va="bottom", fontsize=5.5, color="0.3")
+            ax.text(k * step, 1.0, f"{hi:.0f}", ha="center", va="bottom", fontsize=P.SMALL, color="0.3")
         ax.axvspan(-step, ncol * step, color="white", zorder=-1)
         ax.set_aspect("equal")
         ax.set_xlim(-0.6 * step, (ncol - 0.4) * step)
