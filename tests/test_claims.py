@@ -324,6 +324,24 @@ def test_printed_decay_readings_find_the_reading_that_predicts_the_printed_rate(
     value, holds, _, note = claims.MEASURES["printed_decay_readings"](fig(1.0), spec, "x")
     assert holds and value == pytest.approx(1.0) and "printed/predicted = 1.00, 1.00, 1.00 (agrees)" in note
     value, holds, _, note = claims.MEASURES["printed_decay_readings"](fig(0.5), spec, "x")
-    assert holds and value == pytest.approx(0.5) and "k_fr l0/(4EI): printed/predicted = 1.00, 1.00, 1.00 (agrees)" in note
+    assert holds and value == pytest.approx(0.5)
+    assert "k_fr l0/(4EI): printed/predicted = 1.00, 1.00, 1.00 (agrees)" in note
     value, holds, _, note = claims.MEASURES["printed_decay_readings"](fig(0.1), spec, "x")
     assert holds and "l0 = 0.1, 0.1, 0.1 R (one l0 fits all)" in note    # the printed C at l0 = 0.1 R
+
+
+def test_findings_group_claims_and_take_the_paper_claims_verdict():
+    def v(cid, verdict, finding, where="Sec. I"):
+        return claims.Verdict(cid, where, "c", "p", None, "o", None, "", verdict, "e", finding=finding)
+    vs = [v("a", "refuted", "k2"), v("b", "reproduced", "k2"), v("c", "reproduced", "k2", "Sec. III (our finding)"),
+          v("d", "inconclusive", "exp"), v("e", "reproduced", "exp"), v("f", "reproduced", "f"),
+          v("g", "reproduced", "g", "Fig. 3 (our finding)")]
+    found = claims.findings(vs)
+    assert found == {"k2": ("refuted", ["a", "b", "c"]), "exp": ("inconclusive", ["d", "e"]),
+                     "f": ("reproduced", ["f"]), "g": ("reproduced", ["g"])}
+    ds = claims.to_dataset(vs, {"k2": "the factor 2"})
+    assert ds.attrs["n_findings"] == 4 and ds.attrs["n_findings_refuted"] == 1
+    assert ds.attrs["n_findings_inconclusive"] == 1
+    m = paper.Macros()
+    paper.finding_macros(paper.verdicts_from_dataset(ds), {"k2": "the factor 2"}, m)
+    assert m.expected()["val@findings_refuted"] == "the factor 2" and m.expected()["val@n_findings_reproduced"] == "2"

@@ -11,6 +11,7 @@ Post-processing: reads datasets only and never imports the simulator.
 """
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -48,6 +49,7 @@ class Verdict:
     evidence: str
     reading: str = ""
     note: str = ""
+    finding: str = ""           # the independent finding it belongs to (claims.yaml `finding`, default its id)
 
 
 @dataclass
@@ -98,10 +100,20 @@ def _derivations():
 
 
 # -- reading claims.yaml -----------------------------------------------------------------------
+def finding_titles(path: str | Path) -> dict[str, str]:
+    """The titles of the findings that several claims share (claims.yaml `findings`)."""
+    data = read_yaml(path, what="claims file", error=ClaimError)
+    titles = data.get("findings") or {}
+    if not isinstance(titles, dict) or not all(isinstance(v, str) and v for v in titles.values()):
+        raise ClaimError(f"claims file {str(path)!r}: 'findings' must map finding names to non-empty titles")
+    return {str(k): v for k, v in titles.items()}
+
+
 def load(path: str | Path) -> list[dict[str, Any]]:
     data = read_yaml(path, what="claims file", error=ClaimError)
     if not isinstance(data, dict) or not isinstance(data.get("claims"), list):
         raise ClaimError(f"claims file {str(path)!r}: needs a list 'claims' at the top level")
+    titles = finding_titles(path)
     claims, seen = data["claims"], set()
     for i, c in enumerate(claims):
         where = f"claims file {str(path)!r}, claim {i + 1}"
@@ -115,6 +127,9 @@ def load(path: str | Path) -> list[dict[str, Any]]:
                 raise ClaimError(f"{where}: missing {key!r}")
         if c["id"] in seen:
             raise ClaimError(f"{where}: duplicate id {c['id']!r}")
+        if "finding" in c and c["finding"] not in titles:
+            raise ClaimError(f"{where} ({c['id']!r}): finding {c['finding']!r} has no title in the file's 'findings' "
+                             f"({', '.join(titles) or 'none'})")
         seen.add(c["id"])
         method = c["test"].get("method")
         if method not in METHODS:
@@ -896,7 +911,7 @@ def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
     ours_value, note = None, ""
     if method == "not_testable":
         return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, "-", None, "", "not testable",
-                       "-", reading, str(test.get("reason", "")))
+                       "-", reading, str(test.get("reason", "")), str(c.get("finding", cid)))
     if method == "derivation":
         d = derivations.DERIVATIONS[test["name"]]()
         ours, holds, evidence, note = d.ours, d.agrees, f"confined_rod.derivations.{test['name']}", d.detail
@@ -918,20 +933,43 @@ def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
     else:
         verdict = ("reproduced under reading" if reading else "reproduced") if holds else "refuted"
     return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, ours, ours_value, _tolerance_text(tol),
-                   verdict, evidence, reading, note)
+                   verdict, evidence, reading, note, str(c.get("finding", cid)))
 
 
 def evaluate(claims: list[Mapping[str, Any]], ev: Evidence) -> list[Verdict]:
     return [evaluate_one(c, ev) for c in claims]
 
 
-COLUMNS = ("id", "where", "claim", "paper", "ours", "verdict", "tolerance", "reading", "evidence", "note")
+COLUMNS = ("id", "where", "claim", "paper", "ours", "verdict", "tolerance", "reading", "evidence", "note", "finding")
+
+
+#: a finding's verdict from its claims' (the paper's claims only: claims of ours, whose `where`
+#: says "our finding", do not decide it): the first of these that occurs
+FINDING_ORDER = ("refuted", "inconclusive", "reproduced under reading", "reproduced", "not testable")
+
+
+def ours_only(v: Verdict) -> bool:
+    return "our finding" in v.where
+
+
+def findings(verdicts: list[Verdict]) -> dict[str, tuple[str, list[str]]]:
+    """Independent findings: name -> (verdict, ids of its claims), in the order of first
+    appearance; a finding whose claims are all ours gets their verdict."""
+    groups: dict[str, list[Verdict]] = {}
+    for v in verdicts:
+        groups.setdefault(v.finding or v.id, []).append(v)
+    out = {}
+    for name, vs in groups.items():
+        deciding = [v for v in vs if not ours_only(v)] or vs
+        verdict = next(o for o in FINDING_ORDER if any(v.verdict == o for v in deciding))
+        out[name] = (verdict, [v.id for v in vs])
+    return out
 
 
 VARIABLE = {"claim": "statement"}   # the claim's text (the dimension is called claim)
 
 
-def to_dataset(verdicts: list[Verdict]) -> xr.Dataset:
+def to_dataset(verdicts: list[Verdict], titles: Mapping[str, str] | None = None) -> xr.Dataset:
     """The verdicts as a CF-style dataset: text variables, and the numbers with a flag where
     a claim has one (no NaN)."""
     from .io import finalize
@@ -952,13 +990,19 @@ def to_dataset(verdicts: list[Verdict]) -> xr.Dataset:
         ("paper", "the paper's value as printed"), ("ours", "our value"),
         ("verdict", "reproduced, reproduced under reading, refuted or not testable"),
         ("tolerance", "tolerance deciding the verdict"), ("reading", "interpretation the verdict needs"),
-        ("evidence", "dataset and variable, or derivation, behind our value"), ("note", "how it was decided"))}
+        ("evidence", "dataset and variable, or derivation, behind our value"), ("note", "how it was decided"),
+        ("finding", "the independent finding the claim belongs to"))}
     for name, long in (("paper_value", "the paper's value"), ("ours_value", "our value")):
         data[name], data["has_" + name] = number(name, long)
     ds = xr.Dataset(data, coords={"claim": ("claim", np.array([v.id for v in verdicts], dtype=object),
                                             {"long_name": "claim id (paper/claims.yaml)", "units": "1"})})
     for verdict in VERDICTS:
         ds.attrs["n_" + verdict.replace(" ", "_")] = sum(v.verdict == verdict for v in verdicts)
+    found = findings(verdicts)
+    ds.attrs["n_findings"] = len(found)
+    for verdict in VERDICTS:
+        ds.attrs["n_findings_" + verdict.replace(" ", "_")] = sum(f[0] == verdict for f in found.values())
+    ds.attrs["finding_titles"] = json.dumps(dict(titles or {}))
     return finalize(ds, "Claims of Svensek & Podgornik, evaluated on this build's datasets", {})
 
 

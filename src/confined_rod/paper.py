@@ -458,6 +458,21 @@ def claim_macros(verdicts: Iterable[Verdict], macros: Macros) -> None:
         macros.add("val", "n_" + verdict.replace(" ", "_"), str(sum(v.verdict == verdict for v in verdicts)))
 
 
+def finding_macros(verdicts: Iterable[Verdict], titles: Mapping[str, str], macros: Macros) -> None:
+    """The independent findings (claims that test one discrepancy share one): their number by
+    verdict (\\val{n_findings_refuted}, ...) and the titled ones by verdict as text
+    (\\val{findings_refuted}: the sentences of the abstract come from the verdicts)."""
+    from .claims import findings
+
+    found = findings(list(verdicts))
+    macros.add("val", "n_findings", str(len(found)))
+    for verdict in VERDICTS:
+        key = verdict.replace(" ", "_")
+        macros.add("val", "n_findings_" + key, str(sum(f[0] == verdict for f in found.values())))
+        named = [titles[n] for n, (v, _) in found.items() if v == verdict and n in titles]
+        macros.add("val", "findings_" + key, "; ".join(named) if named else "none")
+
+
 SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
 
 
@@ -614,7 +629,8 @@ def verdicts_from_dataset(ds: xr.Dataset) -> list[Verdict]:
 
         out.append(Verdict(str(cid), text("where"), text("statement"), text("paper"), number("paper_value"),
                            text("ours"), number("ours_value"), text("tolerance"), text("verdict"),
-                           text("evidence"), text("reading"), text("note")))
+                           text("evidence"), text("reading"), text("note"),
+                           text("finding") if "finding" in ds else str(cid)))
     return out
 
 

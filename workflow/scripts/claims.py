@@ -14,5 +14,5 @@ with logged(sm.log[0]):
     verdicts = claims.evaluate(claims.load(sm.input.claims), claims.Evidence(datasets, sims))
     for v in verdicts:
         print(f"{v.id:28s} {v.verdict:26s} paper {v.paper[:30]!r:34s} ours {v.ours[:30]!r:34s} {v.evidence}")
-    write_dataset(claims.to_dataset(verdicts), sm.output.nc)
+    write_dataset(claims.to_dataset(verdicts, claims.finding_titles(sm.input.claims)), sm.output.nc)
     write_text(claims.to_csv(verdicts), sm.output.csv)

@@ -2,6 +2,8 @@
 import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 
 # isort: split
+import json
+
 import xarray as xr
 
 from confined_rod import paper
@@ -10,9 +12,11 @@ from confined_rod.io import logged, write_text
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     datasets = {f: xr.load_dataset(p) for f, p in zip(sm.params.figures, sm.input.datasets)}
-    verdicts = paper.verdicts_from_dataset(xr.load_dataset(sm.input.claims))
+    claims_ds = xr.load_dataset(sm.input.claims)
+    verdicts = paper.verdicts_from_dataset(claims_ds)
     macros = paper.Macros()
     paper.claim_macros(verdicts, macros)
+    paper.finding_macros(verdicts, json.loads(claims_ds.attrs.get("finding_titles", "{}")), macros)
     paper.dataset_macros(datasets, macros)
     macros.add("val", "config", sm.params.config_name)
     order = [tuple(x) for x in sm.params.order]
