@@ -480,13 +480,13 @@ def _exponent_windows(ds, i: int) -> dict[str, tuple[float, float, str]]:
     c_w, sd_w = _panel_value(ds, "fit_c", i, "fit_c")
     fall_w = float(ds.fall_whole.values[i])
     out["whole"] = (c_w, sd_w, "" if fall_w >= DEGENERATE_FALL else
-                    f"|F_z| falls only {fall_w:.2g}x over the whole stretch")
+                    f"|F_z| falls only {fall_w:.3g}x over the whole stretch")
     if int(ds.has_fit_bulk.values[i]) == 0:
         out["bulk"] = (math.nan, 0.0, "no bulk helix")
     else:
         c_b, sd_b = _panel_value(ds, "fit_c_bulk", i, "fit_c_bulk")
         fall_b = float(ds.fall_bulk.values[i])
-        out["bulk"] = (c_b, sd_b, "" if fall_b >= DEGENERATE_FALL else f"|F_z| falls only {fall_b:.2g}x over the bulk")
+        out["bulk"] = (c_b, sd_b, "" if fall_b >= DEGENERATE_FALL else f"|F_z| falls only {fall_b:.3g}x over the bulk")
     return out
 
 
@@ -575,7 +575,7 @@ def power_law_quality(ev, spec, claim):
                 r, f = float(ds[rms].values[i]), float(ds[fall].values[i])
                 worst = max(worst, r)
                 oks.append(r <= tol if f >= DEGENERATE_FALL else None)
-                texts.append(f"{name} {100 * r:.2g} %" + ("" if f >= DEGENERATE_FALL else f" (falls only {f:.2g}x)"))
+                texts.append(f"{name} {100 * r:.2g} %" + ("" if f >= DEGENERATE_FALL else f" (falls only {f:.3g}x)"))
             parts.append(_two_windows(*oks))
             notes.append(f"{fig} {_panel_label(ds, i)}: " + ", ".join(texts))
     files = ", ".join(f"results/datasets/{f}.nc:fit_rms, fit_rms_bulk" for f in spec["figures"])
@@ -719,7 +719,7 @@ def pitch_exponent(ev, spec, claim):
         e, fall = float(ds[f"exponent_omega_F_{name}"]), float(ds[f"fall_{name}"])
         if fall < DEGENERATE_FALL:
             oks.append(None)
-            texts.append(f"{name}: {e:.3f}, not determined (|F_z| falls only {fall:.2g}x)")
+            texts.append(f"{name}: {e:.3f}, not determined (|F_z| falls only {fall:.3g}x)")
             continue
         oks.append(abs(e - target) <= tol)
         worst = max(worst, abs(e - target))
@@ -818,6 +818,22 @@ def event_escapes(ev, spec, claim):
     esc = int(ds.attrs["event_escaped"])
     return float(esc), esc == 1, f"results/datasets/{spec['figure']}.nc:attrs event_escaped", \
         f"L/R = {float(ds.attrs['event_L']) / float(ds.attrs['event_R']):g}, load {float(ds.attrs['event_load']):g}"
+
+
+@measure
+def escape_at_stated_conditions(ev, spec, claim):
+    """At the paper's conditions (the rod in the pore from its top, the entrance closed above it):
+    the paper's load lies below every measured fold threshold, so the rod coils instead of
+    folding or escaping. Value: the paper's load over the smallest fold threshold."""
+    ds = ev.dataset(spec["figure"], claim)
+    lo, hi = (float(v) for v in np.asarray(ds.attrs["fold_threshold_range"]).ravel()[:2])
+    load = float(ds.attrs["paper_load"])
+    below = int(ds.attrs["paper_load_below_fold_thresholds"]) == 1
+    return load / lo, not below, \
+        (f"results/datasets/{spec['figure']}.nc:attrs paper_load, fold_threshold_range, "
+         "paper_load_below_fold_thresholds"), \
+        (f"load {load:g} EI/R^2 against fold thresholds {lo:.3g}-{hi:.3g} EI/R^2 (closed entrance): "
+         + ("below them, the rod coils into a helix" if below else "above the smallest"))
 
 
 # material numbers of the paper's conclusions (SI units)

@@ -192,8 +192,9 @@ def plot(ds: xr.Dataset):
 
     R, L, top = (float(ds.attrs[k]) for k in ("event_R", "event_L", "event_pore_length"))
     escaped = bool(ds.attrs["event_escaped"])
-    fig = P.plt.figure(figsize=(7.0, 6.4))
-    gs = GridSpec(4, 2, figure=fig, height_ratios=[1, 1, 1, 2.3], hspace=0.85, wspace=0.42)
+    fig = P.plt.figure(figsize=(7.0, 5.6))
+    gs = GridSpec(4, 2, figure=fig, height_ratios=[1, 1, 1, 2.6], hspace=0.9, wspace=0.32,
+                  bottom=0.2, top=0.96, left=0.09, right=0.98)
     back = escaped and float(ds.frame_outside_radius.values[-1]) <= 1.0
     titles = ({"a": "our constructed event: the span bowing", "b": "a loop out of the pore",
                "c": "end of the run" + (", the loop drawn back in" if back else ", the loop still out")} if escaped
@@ -236,9 +237,8 @@ def plot(ds: xr.Dataset):
     P.plain_log_ticks(bx.xaxis)
     bx.set_ylim(0.2, 1.6)
     bx.set_xlabel(label("aspect"))
-    bx.set_ylabel(r"threshold load $\times\ R^2/EI$")
+    bx.set_ylabel(r"threshold $\times\ R^2/EI$")
     bx.set_title("(d) against L/R", fontsize=8.5, loc="left")
-    bx.legend(fontsize=P.SMALL, ncol=2, loc="upper left")
 
     cx = fig.add_subplot(gs[3, 1])
     scan = g > 0
@@ -257,8 +257,16 @@ def plot(ds: xr.Dataset):
         cx.set_xscale("log")
         cx.set_yscale("log")
         P.plain_log_ticks(cx.xaxis)
-        cx.legend(fontsize=P.SMALL, loc="lower left")
     cx.set_xlabel(r"free span $g$ [$R$]")
-    cx.set_ylabel(r"threshold load $\times\ R^2/EI$")
+    cx.set_ylabel(r"threshold $\times\ R^2/EI$")
     cx.set_title("(e) against the free span", fontsize=8.5, loc="left")
+    # one legend for (d) and (e), below them: inside the panels it covered their points
+    handles, labels = [], []
+    for ax in (bx, cx):
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=P.SMALL, bbox_to_anchor=(0.5, 0.0),
+               columnspacing=1.2, handletextpad=0.4)
     return fig

@@ -175,7 +175,7 @@ def _plot_local_law(bx, ds: xr.Dataset) -> None:
     bx.set_xlabel(label("L"))
     bx.set_ylabel(r"bulk $d(1/|F_z|)/ds$ over $k_{fr}R/(4EI)$")
     bx.set_title("(b) local decay law in the bulk helix", fontsize=9, loc="left")
-    bx.legend(loc="center right", fontsize=7.5)
+    bx.legend(loc="upper right", bbox_to_anchor=(1.0, 0.86), fontsize=7.5)
 
 
 def plot(ds: xr.Dataset):
@@ -215,5 +215,7 @@ def plot(ds: xr.Dataset):
     # marker among the data, where it read as an extra point
     ax.legend(loc="lower left", fontsize=7.5)
     if local:
+        bx.set_xlim(ax.get_xlim())       # the same lengths as (a): the short rods without a bulk have no point
+        P.plain_log_ticks(bx.xaxis)
         fig.tight_layout()
     return fig
