@@ -566,7 +566,7 @@ def claims_table(verdicts: Iterable[Verdict]) -> str:
         ours = tex_value(v.ours)[0]
         paper = tex_value(v.paper)[0]
         verdict = tex_escape(v.verdict)
-        rows.append(rf"C{i} & {tex_escape(v.where)} & {tex_escape(v.claim)} & {paper} & {ours} & "
+        rows.append(rf"C{i} & {tex_escape(v.where)} & {caption_tex(v.claim)} & {paper} & {ours} & "
                     rf"\textbf{{{verdict}}} \\")
     col = r">{\raggedright\arraybackslash}p"
     head = (rf"\begin{{longtable}}{{@{{}}{col}{{0.035\linewidth}}{col}{{0.12\linewidth}}{col}{{0.39\linewidth}}"
