@@ -116,19 +116,23 @@ def test_missing_evidence_fails_instead_of_deciding():
         claims.evaluate_one(c, claims.Evidence({"f": _fig({"fit_c": [1.0, 2.0]})}))
 
 
-def test_half_reduction_length_interpolates_log_linearly():
-    # F(L)/F(0) = (L/10)^-1: below 1/2 from L = 20 on; between 10 and 40 the log-linear
-    # interpolation of a power law is exact
+def test_half_reduction_length_interpolates_log_linearly_and_tests_every_threshold():
+    # F(L)/F(0) = (L/10)^-1: below 1/2 from L = 20 on, below 1/4 from L = 40; between the
+    # bracketing lengths the log-linear interpolation of a power law is exact
     L = np.array([10.0, 40.0, 160.0])
     ds = xr.Dataset({"F_transmitted": ("L", 0.25 * 10 / L)}, coords={"L": L}, attrs={"load": 0.25})
-    value, holds, _, _ = claims.MEASURES["half_reduction_length"](
-        claims.Evidence({"f": ds}), {"figure": "f", "lo": 31.6, "hi": 316}, "x")
-    assert value == pytest.approx(20.0, rel=1e-12) and not holds
+    spec = {"figure": "f", "lo": 31.6, "hi": 316}
+    value, holds, _, note = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), spec, "x")
+    assert value == pytest.approx(20.0, rel=1e-12)
+    assert holds is None and "below 0.25 at L/R = 40" in note      # 1/2: outside the range, 1/4: inside
+    value, holds, *_ = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}),
+                                                                {**spec, "thresholds": [0.25, 0.1]}, "x")
+    assert value == pytest.approx(40.0, rel=1e-12) and holds is True      # 40 and 100: both inside
+    assert claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), {**spec, "lo": 200}, "x")[1] is False
     # already below 1/2 at the shortest rod: the shortest length is an upper bound
     ds["F_transmitted"] = ("L", 0.25 * np.array([0.4, 0.3, 0.2]))
-    value, _, _, note = claims.MEASURES["half_reduction_length"](
-        claims.Evidence({"f": ds}), {"figure": "f", "lo": 31.6, "hi": 316}, "x")
-    assert value == 10.0 and "upper bound" in note
+    value, _, _, note = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), spec, "x")
+    assert value == 10.0 and "below 0.5 at L/R <= 10" in note
 
 
 def test_transmitted_decay_needs_a_continuing_decrease():

@@ -119,17 +119,18 @@ def defects(s: np.ndarray, dphi_ds: np.ndarray, min_links: int = 3,
     return np.asarray(out)
 
 
-def half_reduction_length(L: np.ndarray, fraction: np.ndarray) -> tuple[float, str]:
+def half_reduction_length(L: np.ndarray, fraction: np.ndarray, threshold: float = 0.5) -> tuple[float, str]:
     """The rod length at which the transmitted fraction |F_z(L)|/|F_z(0)| first falls below
-    1/2, interpolated linearly in (ln L, ln fraction) between the bracketing lengths; with
-    how it was found: 'interpolated', 'upper bound' (already below 1/2 at the shortest
-    length, which is returned) or 'lower bound' (never below 1/2; the longest length)."""
+    `threshold` (1/2 by default), interpolated linearly in (ln L, ln fraction) between the
+    bracketing lengths; with how it was found: 'interpolated', 'upper bound' (already below at
+    the shortest length, which is returned) or 'lower bound' (never below; the longest length)."""
     L, fraction = np.asarray(L, dtype=float), np.asarray(fraction, dtype=float)
-    below = np.flatnonzero(fraction < 0.5)
+    below = np.flatnonzero(fraction < threshold)
     if below.size == 0:
         return float(L[-1]), "lower bound"
     i = int(below[0])
     if i == 0:
         return float(L[0]), "upper bound"
-    x = np.interp(np.log(0.5), [np.log(fraction[i]), np.log(fraction[i - 1])], [np.log(L[i]), np.log(L[i - 1])])
+    x = np.interp(np.log(threshold), [np.log(fraction[i]), np.log(fraction[i - 1])],
+                  [np.log(L[i]), np.log(L[i - 1])])
     return float(np.exp(x)), "interpolated"

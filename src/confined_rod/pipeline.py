@@ -421,8 +421,9 @@ def caption(config: dict[str, Any], figure: str) -> str:
     sc = next(iter(built.values()))
     varied = set(kinds.varied(fig["kind"], fig))
     common = [f"R = {sc.R:g}", f"EI = {sc.EI:g}", f"load |F_z(0)| = {sc.load:g} EI/R^2",
-              f"friction cap {sc.friction_cap:g} EI/R^3", f"protocol '{sc.protocol}'", _seeds_text(built),
-              f"perturbation {sc.perturbation:g} R"]
+              f"friction cap {sc.friction_cap:g} EI/R^3",
+              "protocol varied" if "protocol" in varied else f"protocol '{sc.protocol}'", _seeds_text(built),
+              "perturbation varied" if "perturbation" in varied else f"perturbation {sc.perturbation:g} R"]
     numerics = [f"{k} = {getattr(sc, k):g}{u}" for k, u in (("l0", " R"), ("k_ph", " EI/R^2"), ("k_w", " EI/R^3"),
                                                               ("tol", ""))]
     numerics = [t if t.split(" =")[0] not in varied else f"{t.split(' =')[0]} varied" for t in numerics]
