@@ -24,7 +24,7 @@ from .. import plotting as P
 from ..errors import ConfigError
 from ..io import variable
 from ..measure import defects
-from ._common import need_scenes, scene_coord
+from ._common import need_scenes, same_except, scene_coord
 
 OPTIONS = {
     "labels": {"type": "object", "additionalProperties": {"type": "string"},
@@ -46,15 +46,7 @@ def _variants(built) -> dict[str, list[str]]:
 def validate(figure, fig_cfg, built) -> None:
     groups = _variants(built)
     need_scenes(figure, groups, 2, "a comparison of protocols")
-    ref_name, ref = next(iter(built.items()))
-    for name, sc in built.items():
-        for key in type(sc).field_names():
-            if key in VARIED or key == "name":
-                continue
-            if getattr(sc, key) != getattr(ref, key):
-                raise ConfigError(f"figures.{figure}.scenes.{name}: {key} = {getattr(sc, key)!r} differs from "
-                                  f"{getattr(ref, key)!r} in scene {ref_name!r}; the variants of a protocol "
-                                  f"comparison differ only in {', '.join(VARIED)}")
+    same_except(figure, built, VARIED, f"the variants of a protocol comparison differ only in {', '.join(VARIED)}")
     for key in fig_cfg.get("labels") or {}:
         if key not in groups:
             raise ConfigError(f"figures.{figure}.labels: {key!r} is not one of its scenes ({', '.join(groups)})")
