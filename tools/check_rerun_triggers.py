@@ -28,6 +28,7 @@ PROBES = {
     PKG / "plotting.py": ({"figure"}, {"simulate", "probe", "load_path", "postprocess"}),
     PKG / "fits.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
     PKG / "measure.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
+    PKG / "regions.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
     PKG / "figures" / "force_profile.py": ({"postprocess", "figure"},
                                            {"simulate", "probe", "load_path", "convergence_check"}),
     PKG / "figures" / "pitch_profile.py": ({"postprocess", "figure"},

@@ -42,22 +42,21 @@ _PKG = Path(workflow.basedir) / "src" / "confined_rod"
 _FIGURES = _PKG / "figures"
 POSTPROCESS_SHARED = [
     str(_PKG / f)
-    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py")
+    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py", "regions.py")
 ] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
 STYLE_CODE = [str(_PKG / "plotting.py")]
 _NOT_SIMULATION = set(POSTPROCESS_SHARED + STYLE_CODE) | {
     str(_PKG / f) for f in ("pipeline.py", "cli.py", "__main__.py", "config_schema.py",
                             "claims.py", "derivations.py", "paper.py")
 }
+# theory.py is shared: the helix start (scenes.py) takes its pitch from it, and the load paths
+# (Fig 3) their bisection brackets
 SIMULATION_CODE = sorted(
     str(p)
     for p in _PKG.rglob("*.py")
     if str(p) not in _NOT_SIMULATION and _FIGURES not in p.parents
-)
-
-
-# load paths (Fig 3) also use the threshold estimates of theory.py as bisection brackets
-PATH_CODE = SIMULATION_CODE + [str(_PKG / "theory.py")]
+) + [str(_PKG / "theory.py")]
+PATH_CODE = SIMULATION_CODE
 
 
 def scene_sims(wildcards):
