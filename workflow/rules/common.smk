@@ -111,7 +111,10 @@ def path_priority(wildcards):
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
 PAPER = config.get("paper") or {}
-CLAIMS_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py")]
+# the claims' measures read datasets through measure.py and ensembles.py, and the pitch law
+# rebuilds the pitch profile of every seed of the same rod (figures/pitch_profile.py)
+CLAIMS_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py", "measure.py", "ensembles.py",
+                                       "figures/pitch_profile.py")]
 PAPER_CODE = CLAIMS_CODE + [str(_PKG / "paper.py")]
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
                else "config/config.yaml")
