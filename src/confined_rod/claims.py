@@ -462,8 +462,10 @@ def _two_windows(ok_whole: bool | None, ok_bulk: bool | None) -> bool | None:
 
 
 def _panel_label(ds, i: int) -> str:
-    return f"({chr(97 + i)})" if ds.sizes.get("panel", 1) > 1 else str(ds.panel.values[i]) if "panel" in ds.coords \
-        else "(a)"
+    """(a), (b), ... for a figure of several panels; the scene name of a single panel."""
+    if ds.sizes.get("panel", 1) > 1 or "panel" not in ds.coords:
+        return f"({chr(97 + i)})"
+    return str(ds.panel.values[i])
 
 
 def _panel_value(ds, var: str, i: int, ensemble: str | None = None) -> tuple[float, float]:

@@ -380,9 +380,8 @@ def _build(fig_cfg, sims) -> xr.Dataset:
                      "fit_window": "joints between the first and the last link touching the wall, trimmed by fit_trim",
                      "regions": (f"confined_rod.regions: bulk = longest stretch where the axial friction utilisation, "
                                  f"averaged over {regions.WINDOW_R:g} R, is >= {regions.Q_BULK:g}; tip before it, "
-                                 "lower "
-                                 "region after it; decay rates are slopes of 1/|F_z| against s, uncertainty max(s.e., "
-                                 "half the difference of the two halves)"),
+                                 "lower region after it; decay rates are slopes of 1/|F_z| against s, uncertainty "
+                                 "max(s.e., half the difference of the two halves)"),
                      "paper_euler_ratio": float(fig_cfg.get("paper_euler_ratio", 0.0)),
                      "paper_reference": "D. Svensek and R. Podgornik, Confined nanorods: jamming due to helical "
                                         "buckling; printed fit parameters as given in the config (paper_fits)"})
@@ -392,7 +391,7 @@ def _build(fig_cfg, sims) -> xr.Dataset:
 REGION_COLORS = {"tip": "#f6d8b8", "bulk": "#d5ecd4", "lower": "#dcdcef"}
 
 
-def _plot_local_law(ax, d, s, i: int) -> None:
+def _plot_local_law(ax, d, s) -> None:
     """1/|F_z| against s with the three regions shaded and the local laws k_fr R/(4EI)
     (corrected) and k_fr R/(2EI) (paper) drawn from the start of the bulk."""
     inv = 1.0 / d["F_abs"].values
@@ -474,7 +473,7 @@ def plot(ds: xr.Dataset):
     axes[0][0].set_ylabel(label("F_abs"))
     if local:
         for i, ax in enumerate(all_axes[1]):
-            _plot_local_law(ax, ds.isel(panel=i), s, i)
+            _plot_local_law(ax, ds.isel(panel=i), s)
             ax.set_title((f"({chr(97 + n + i)})" if n > 1 else "") + " local decay law", fontsize=9, loc="left")
         all_axes[1][0].set_ylabel(r"$1/|F_z|$ [$R^2/EI$]")
     head = P.params_text(ds, ("L", "load", "k_fr", "l0"))
