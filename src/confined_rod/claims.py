@@ -676,6 +676,34 @@ READINGS = {
 }
 
 
+def _ramp_reading(ev, spec, claim, rows, tol, notes) -> bool:
+    """The loading path as a reading: the printed rate of each panel against the bulk rate our
+    rods reach when the same panel is loaded by a quasi-static ramp (spec['ramp']: figure ->
+    its ramped copy, same panels). Agrees if every panel is within max(tol, 2 x the ramp's
+    relative spread)."""
+    ramped = {}
+    for fig, rfig in spec["ramp"].items():
+        for r in _printed_rates(ev, [rfig], claim):
+            ramped[(fig, r["where"].split(" ", 1)[1])] = r
+    parts, ok_all = [], True
+    for r in rows:
+        fig, panel = r["where"].split(" ", 1)
+        rr = ramped.get((fig, panel))
+        if rr is None:
+            ok_all = False
+            parts.append(f"{r['where']}: no ramped run with a bulk")
+            continue
+        q = r["printed"] / rr["ours"]
+        ok = abs(q - 1) <= max(tol, 2 * rr["spread"])
+        ok_all &= ok
+        parts.append(f"{r['where']} {q:.2f} (ramp rate {rr['ours'] / READINGS['corrected'][1](rr):.2f} +- "
+                     f"{rr['spread'] * rr['ours'] / READINGS['corrected'][1](rr):.2f} of the corrected law)"
+                     + (" agrees" if ok else ""))
+    notes.append("the loading path, a quasi-static ramp (" + ", ".join(spec["ramp"].values())
+                 + "): printed/ramp rate = " + "; ".join(parts) + (" (agrees)" if ok_all else ""))
+    return ok_all
+
+
 @measure
 def printed_decay_readings(ev, spec, claim):
     """The decay rates the printed fits imply in the bulk, against each reading of the paper's
@@ -706,29 +734,89 @@ def printed_decay_readings(ev, spec, claim):
     notes.append("panels: " + ", ".join(f"{r['where']} (k_fr = {r['k_fr']:g}, printed {r['printed']:.3g}, ours "
                                         f"{r['ours']:.3g} R/EI)" for r in rows))
     value = float(np.mean([r["printed"] / READINGS["corrected"][1](r) for r in rows]))
-    holds: bool | None = any(agree) or one_l0
-    if not holds and "protocols" in spec:
-        # the loading path changes the bulk rate: a protocol of the comparison (same rod as a panel)
-        # that gives that panel's printed rate leaves the question open for the panels it was not run for
-        ds = ev.dataset(spec["protocols"], claim)
-        k_fr, L, load = (float(ds.attrs[k]) for k in ("k_fr", "L", "load"))
-        match = [r for r in rows if r["k_fr"] == k_fr and r.get("L") == L and r.get("load") == load]
-        found = []
-        for i, v in enumerate(ds.variant.values):
-            m, sd = float(ds.decay_ratio_mean.values[i]), float(ds.decay_ratio_std.values[i])
-            for r in match:
-                q = r["printed"] / READINGS["corrected"][1](r)
-                if m > 0 and abs(q / m - 1) <= max(tol, 2 * sd / m):
-                    found.append(f"{v} ({m:.2f} +- {sd:.2f} against {q:.2f} for {r['where']})")
-        notes.append(f"loading protocols of {spec['protocols']} (L/R = {L:g}, load {load:g}, k_fr = {k_fr:g}), "
-                     "bulk rate over the corrected law: " + ", ".join(
-                         f"{v} {float(m):.2f}" for v, m in zip(ds.variant.values, ds.decay_ratio_mean.values)))
-        if found:
-            holds = None
-            notes.append("the printed rate of a panel is that of another loading protocol: " + "; ".join(found)
-                         + " -- not run for the other panels, so the loading path could explain the printed fits")
+    if "ramp" in spec:
+        agree.append(_ramp_reading(ev, spec, claim, rows, tol, notes))
+    holds = any(agree) or one_l0
     return value, holds, ", ".join(f"results/datasets/{f}.nc:paper_fit_decay_rate, bulk_decay_rate"
                                                   for f in spec["figures"]), "; ".join(notes)
+
+
+@measure
+def torque_budget_closes(ev, spec, claim):
+    """The axial torque budget (confined_rod.torque) in every member of the protocol comparisons
+    with both ends free: the friction's total axial torque vanishes (closure <= `max_closure`),
+    and in the bulk the torque the friction left in the rod equals the one the local helix
+    carries, |difference| <= `tol` (1 + |tau|/tau_0) in units of tau_0. Value: the largest
+    difference over tau_0."""
+    worst_c, worst_d, parts, files = 0.0, 0.0, [], []
+    for fig in spec["figures"]:
+        ds = ev.dataset(fig, claim)
+        files.append(f"results/datasets/{fig}.nc:torque_closure_member, torque_friction_ratio_member, "
+                     "torque_helix_ratio_member")
+        free = (ds["variant_ends"].values == "free")[:, None]
+        has, bulk = (ds["has_member"].values == 1) & free, (ds["has_bulk_member"].values == 1) & free
+        c = ds["torque_closure_member"].values[has]
+        fr, hx = ds["torque_friction_ratio_member"].values[bulk], ds["torque_helix_ratio_member"].values[bulk]
+        d = np.abs(fr - hx) / (1 + np.abs(fr))
+        worst_c, worst_d = max(worst_c, float(c.max(initial=0))), max(worst_d, float(d.max(initial=0)))
+        parts.append(f"{fig}: {int(has.sum())} runs, closure <= {float(c.max(initial=0)):.1e}, bulk torque from "
+                     f"friction and from the helix differ by <= {float(d.max(initial=0)):.3f} (1 + |tau|/tau_0) "
+                     f"tau_0 over {int(bulk.sum())} runs; bulk tau/tau_0 from {float(fr.min(initial=0)):.2f} to "
+                     f"{float(fr.max(initial=0)):.2f}")
+    holds = worst_c <= float(spec["max_closure"]) and worst_d <= float(spec["tol"])
+    return worst_d, holds, ", ".join(files), "; ".join(parts)
+
+
+def _variant(ds, name: str, claim: str) -> int:
+    names = [str(v) for v in ds.variant.values]
+    if name not in names:
+        raise ClaimError(f"claim {claim!r}: no variant {name!r} in the protocol comparison ({', '.join(names)})")
+    return names.index(name)
+
+
+def _mean_sd(ds, key: str, i: int) -> tuple[float, float]:
+    return float(ds[f"{key}_mean"].values[i]), float(ds[f"{key}_std"].values[i])
+
+
+@measure
+def loading_path_torque(ev, spec, claim):
+    """The loading path sets the axial torque locked into the bulk helix: the bulk tau/tau_0 of
+    `variants` (ensemble mean +- s.d.) differ pairwise by more than twice the larger s.d.;
+    the note gives with it the pitch over the torque-free one, the wall force over R F^2/(4EI)
+    (measured, and predicted by the torque) and the bulk decay rate over the corrected law.
+    Value: the torque ratio of the last variant."""
+    ds = ev.dataset(spec["figure"], claim)
+    rows = []
+    for v in spec["variants"]:
+        i = _variant(ds, v, claim)
+        rows.append((v, {k: _mean_sd(ds, k, i) for k in ("torque_friction_ratio", "pitch_ratio", "K_ratio",
+                                                           "K_ratio_from_torque", "decay_ratio", "fraction")}))
+    apart = all(abs(a[1]["torque_friction_ratio"][0] - b[1]["torque_friction_ratio"][0])
+                > 2 * max(a[1]["torque_friction_ratio"][1], b[1]["torque_friction_ratio"][1])
+                for k, a in enumerate(rows) for b in rows[k + 1:])
+    note = "; ".join(f"{v}: tau/tau_0 {d['torque_friction_ratio'][0]:.2f} +- {d['torque_friction_ratio'][1]:.2f}, "
+                     f"pitch {d['pitch_ratio'][0]:.2f} of torque-free, K {d['K_ratio'][0]:.2f} of R F^2/(4EI) "
+                     f"(from the torque {d['K_ratio_from_torque'][0]:.2f}), decay rate {d['decay_ratio'][0]:.2f} of "
+                     f"the corrected law, F(L)/F(0) {d['fraction'][0]:.2f}" for v, d in rows)
+    return rows[-1][1]["torque_friction_ratio"][0], apart, \
+        f"results/datasets/{spec['figure']}.nc:torque_friction_ratio_mean, pitch_ratio_mean, K_ratio_mean", note
+
+
+@measure
+def lower_region_torque(ev, spec, claim):
+    """What the lower region of `variant` does: the axial torque it receives from the bulk
+    (tau/tau_0 at its start, mean +- s.d.) must be shed before the free lower end, and its
+    friction is mostly azimuthal: holds if the received torque is nonzero by more than twice its
+    s.d. and the mean azimuthal share of the friction exceeds `min_share`. Value: the share."""
+    ds = ev.dataset(spec["figure"], claim)
+    i = _variant(ds, spec["variant"], claim)
+    tq, tq_sd = _mean_sd(ds, "lower_torque_ratio", i)
+    share, share_sd = _mean_sd(ds, "lower_azimuthal_share", i)
+    q, _ = _mean_sd(ds, "lower_length", i)
+    holds = abs(tq) > 2 * tq_sd and share > float(spec["min_share"])
+    return share, holds, f"results/datasets/{spec['figure']}.nc:lower_torque_ratio_mean, lower_azimuthal_share_mean", \
+        (f"{spec['variant']}: the lower region ({q:.0f} R) receives tau/tau_0 = {tq:.2f} +- {tq_sd:.2f} from the bulk "
+         f"and sheds it to 0 at the free end; azimuthal share of its friction {share:.2f} +- {share_sd:.2f}")
 
 
 @measure
@@ -931,7 +1019,7 @@ def required_figures(claims: list[Mapping[str, Any]]) -> dict[str, list[str]]:
     for c in claims:
         for spec in (c["test"], c.get("paper_from") or {}):
             for f in ([spec["figure"]] if "figure" in spec else []) + list(spec.get("figures", [])) + \
-                    ([spec["protocols"]] if "protocols" in spec else []):
+                    ([spec["protocols"]] if "protocols" in spec else []) + list((spec.get("ramp") or {}).values()):
                 out.setdefault(f, []).append(c["id"])
     return out
 

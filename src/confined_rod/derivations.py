@@ -140,6 +140,33 @@ def wall_force_lowest_order() -> Derivation:
                       f"{sp.sstr(sp.simplify(printed / ours))}")
 
 
+def helix_with_torque() -> Derivation:
+    """A constant-pitch helix on the wall that carries an axial torque tau (M_z + (r x F)_z =
+    tau instead of 0, our extension; docs/model.md, "The axial torque budget"): the wall force
+    per length from the torque and F_phi = -K/w, then |F_z| from Eq. (equilibrium). Checked
+    against the forms confined_rod.torque evaluates (the torque budget of the datasets)."""
+    from . import torque
+
+    tau, F = sp.symbols("tau F", real=True)
+    wc = sp.symbols("w", positive=True)
+    K = sp.symbols("K")
+    c = sp.sqrt(1 - R**2 * wc**2)
+    K_tau = sp.solve(sp.Eq(EI * R**2 * wc**3 + R * (-K / wc), tau), K)[0]
+    F_tau = sp.solve(sp.Eq(c * (EI * R * wc**4 + K_tau) + R * wc**2 * (-F), 0), F)[0]   # F_z = -|F_z|
+    ok = _zero(K_tau - (EI * R**2 * wc**4 - wc * tau) / R) and _zero(F_tau - c * (2 * EI * wc**2 - tau / (R**2 * wc)))
+    ok = ok and _zero(F_tau.subs(tau, 0) - 2 * EI * wc**2 * c)
+    for vals in ({R: 0.9, EI: 1.0, wc: 0.3, tau: 0.004}, {R: 1.0, EI: 2.0, wc: 0.1, tau: -0.01}):
+        num = {str(k): float(v) for k, v in vals.items()}
+        ok = ok and abs(float(K_tau.subs(vals)) - float(torque.helix_wall_force(num["R"], num["w"], num["tau"],
+                                                                                num["EI"]))) < 1e-12
+        ok = ok and abs(float(F_tau.subs(vals)) - float(torque.helix_force(num["R"], num["w"], num["tau"],
+                                                                           num["EI"]))) < 1e-12
+    return Derivation(f"K = {sp.sstr(sp.simplify(K_tau))}, |F_z| = {sp.sstr(sp.simplify(F_tau))}",
+                      "(not in the paper: its helix is torque-free, tau = 0)", ok,
+                      "axial torque M_z + R F_phi = tau with F_phi = -K/w, then Eq. (equilibrium); tau = 0 gives "
+                      "the torque-free helix; equal to confined_rod.torque's forms at two points")
+
+
 def force_decay(paper_K: bool = False) -> sp.Expr:
     """Solve d|F|/dl = -k_fr K(|F|), |F|(0) = F0, with the derived (or printed) K."""
     F = sp.Function("F")
@@ -282,6 +309,7 @@ def rotational_drag() -> Derivation:
 DERIVATIONS: dict[str, Callable[[], Derivation]] = {
     "helix_torque": helix_torque,
     "helix_torque_balance": helix_torque_balance,
+    "helix_with_torque": helix_with_torque,
     "azimuthal_force_constant_pitch": azimuthal_force_constant_pitch,
     "helix_radial_equilibrium": helix_radial_equilibrium,
     "pitch_lowest_order": pitch_lowest_order,

@@ -183,7 +183,17 @@ def check_roundoff(scene, fail: Fail) -> None:
 
 
 def snapshot_bytes(scene, n_snapshots: float) -> float:
-    return n_snapshots * scene.N * 3 * 8.0
+    """Memory of the snapshots of a run: per snapshot the link centres and tangents, and the
+    axial force, the axial and azimuthal friction and the wall force derived from them."""
+    return n_snapshots * scene.N * 10 * 8.0
+
+
+def snapshot_count(scene) -> float:
+    """The most snapshots a run can take before the scene's time cap (snapshot_interval > 0)."""
+    if scene.snapshot_growth > 1.0:
+        doublings = math.log(max(scene.t_max / scene.snapshot_interval, 1.0)) / math.log(scene.snapshot_growth)
+        return math.floor(doublings) + 3
+    return math.floor(scene.t_max / scene.snapshot_interval) + 2
 
 
 def check_snapshots(scene, fail: Fail) -> None:
@@ -191,7 +201,7 @@ def check_snapshots(scene, fail: Fail) -> None:
     implicit solver's default cap, 1e9, bounds nothing: it is checked during the run)."""
     if scene.snapshot_interval <= 0.0:
         return
-    n = math.floor(scene.t_max / scene.snapshot_interval) + 2
+    n = snapshot_count(scene)
     size = snapshot_bytes(scene, n)
     if size > MAX_SNAPSHOT_BYTES and (scene.solver == "explicit" or scene.given("t_max")):
         least = scene.t_max * snapshot_bytes(scene, 1) / MAX_SNAPSHOT_BYTES

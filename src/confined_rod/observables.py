@@ -25,6 +25,7 @@ class Observables:
     contact: np.ndarray
     friction_force: np.ndarray
     friction_z: np.ndarray
+    friction_phi: np.ndarray  # azimuthal component (along e_z x r of the link centre)
     stuck: np.ndarray
     s_helix: np.ndarray  # contact stretch
     phi: np.ndarray
@@ -66,11 +67,13 @@ def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
     phi = np.unwrap(np.arctan2(rr[sl, 1], rr[sl, 0]))
     s_helix = s_link[sl]
     dphi = np.gradient(phi, s_helix) if phi.size >= 2 else np.zeros_like(phi)
+    rho = np.hypot(rr[:, 0], rr[:, 1])
+    f_phi = np.divide(rr[:, 0] * Ff[:, 1] - rr[:, 1] * Ff[:, 0], rho, out=np.zeros(scene.N), where=rho > 0)
     h = 0.5 * scene.l0
     L_z = float((r[-1, 2] + h * t[-1, 2]) - (r[0, 2] - h * t[0, 2]))
     return Observables(
         s=s, F_z=F_z, s_link=s_link, r=rr, t=tt, wall_force=Nw, contact=contact,
-        friction_force=np.linalg.norm(Ff, axis=1), friction_z=Ff[:, 2],
+        friction_force=np.linalg.norm(Ff, axis=1), friction_z=Ff[:, 2], friction_phi=f_phi,
         stuck=ws.stuck[order].astype(np.int8), s_helix=s_helix, phi=phi, dphi_ds=dphi,
         L_z=L_z, F_transmitted=float(f_floor - F_z[-1]),
     )

@@ -493,11 +493,19 @@ SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
 def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     """\\val{<figure>.<variant>.fraction} (mean +- s.d. of F(L)/F(0)), .lower_length, .decay_ratio,
     .n_reversals, and \\val{<figure>.ramp_change} (the finest ramp step's paired change of F(L), %)."""
+    two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_ratio", "K_ratio", "K_ratio_from_torque",
+           "lower_torque_ratio", "lower_azimuthal_share")
     for i, v in enumerate(ds.variant.values):
-        for key in ("fraction", "lower_length", "tip_length", "decay_ratio", "n_reversals"):
-            std = "fraction_std" if key == "fraction" else f"{key}_std"
-            value = [(float(ds[f"{key}_mean"].values[i]), float(ds[std].values[i]))]
-            macros.add_list("val", f"{name}.{v}.{key}", value, ".2f" if key in ("fraction", "decay_ratio") else ".3g")
+        for key in ("fraction", "lower_length", "tip_length", "decay_ratio", "n_reversals", "torque_friction_ratio",
+                    "pitch_ratio", "K_ratio", "K_ratio_from_torque", "lower_torque_ratio", "lower_azimuthal_share"):
+            if f"{key}_mean" not in ds:
+                continue
+            value = [(float(ds[f"{key}_mean"].values[i]), float(ds[f"{key}_std"].values[i]))]
+            macros.add_list("val", f"{name}.{v}.{key}", value, ".2f" if key in two else ".3g")
+    if "torque_closure_member" in ds:
+        free = (ds["variant_ends"].values == "free")[:, None] & (ds["has_member"].values == 1)
+        worst = float(ds["torque_closure_member"].values[free].max()) if free.any() else 0.0
+        macros.add("val", f"{name}.torque_closure", f"{worst:.1e}")
     if "ramp_ladder_paired_change" in ds.attrs:
         change = np.atleast_1d(ds.attrs["ramp_ladder_paired_change"])[-1]
         sem = np.atleast_1d(ds.attrs["ramp_ladder_paired_sem"])[-1]

@@ -113,6 +113,15 @@ def log_axes(ax) -> None:
     plain_log_ticks(ax.yaxis)
 
 
+def sci(x: float) -> str:
+    """x as mathtext, a x 10^b (1.6 x 10^5; plain below 1000)."""
+    if x == 0 or 1e-2 <= abs(x) < 1e3:
+        return f"{x:.3g}"
+    e = int(np.floor(np.log10(abs(x))))
+    m = x / 10**e
+    return (f"{m:.2g}" + r"\times" if abs(m - 1) > 0.05 else "") + f"10^{{{e}}}"
+
+
 def params_text(ds: xr.Dataset, keys) -> str:
     """'$L = 320\\,R$, $|F_z(0)| = 0.25\\,EI/R^2$, ...' for the scene parameters among ``keys``
     that the dataset records (symbols and units from quantities.py)."""

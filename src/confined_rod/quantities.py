@@ -95,6 +95,8 @@ SCENE_PARAMETERS = [
            {"enum": ["corrected", "paper"]}),
     _param("snapshot_interval", r"\Delta t_{snap}", "simulated time between stored shapes (0 = none)",
            "beta_ph R4 EI-1", _NONNEG),
+    _param("snapshot_growth", "g_{snap}", "growth factor of the snapshot times (1: a fixed interval; g > 1: at 0, "
+           "snapshot_interval, then each time the simulated time grows by g)", "1", {"type": "number", "minimum": 1}),
 ]
 
 _Q = SCENE_PARAMETERS + [
@@ -118,6 +120,8 @@ _Q = SCENE_PARAMETERS + [
     Quantity("contact", "", "link touches the wall (1) or not (0)", "1"),
     Quantity("friction_force", "f", "magnitude of the wall friction force on the link", "EI R-2"),
     Quantity("friction_z", "f_z", "axial component of the wall friction force on the link", "EI R-2"),
+    Quantity("friction_phi", r"f_\varphi", "azimuthal component of the wall friction force on the link (along "
+             "e_z x r: positive counter-clockwise seen from the loaded end's side, +z)", "EI R-2"),
     Quantity("stuck", "", "link in static friction (1) or sliding/free (0)", "1"),
     Quantity("phi", r"\phi", "azimuth of the link centre (unwrapped) along the wall-contact stretch", "rad"),
     Quantity("dphi_ds", r"d\phi/ds", "azimuthal rate along the wall-contact stretch", "rad R-1"),
@@ -347,6 +351,33 @@ _Q = SCENE_PARAMETERS + [
              "law (members with a bulk)", "1"),
     Quantity("decay_ratio_std", r"\sigma", "ensemble standard deviation of the bulk decay rate over the corrected "
              "law", "1"),
+    # the axial torque budget (torque.py), per member in the bulk and along s
+    *[Quantity(f"{key}_{stat}", sym if stat == "member" else (rf"\langle {sym}\rangle" if stat == "mean" else r"\sigma"),
+               f"{text} ({what if key != 'torque_closure' else what.split(';')[0]})", "1")
+      for key, sym, text in (
+          ("torque_closure", r"|\Gamma(L)|/\sum|\rho f_\varphi|", "axial torque of the wall friction on the whole "
+           "rod over the sum of its magnitudes: 0 when the budget closes (both ends free to turn)"),
+          ("torque_friction_ratio", r"\tau\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque the "
+           "friction left in the rod, signed along the handedness, over EI R^2 w0^3, w0 = sqrt(|F_z|/(2EI))"),
+          ("torque_helix_ratio", r"\tau_{helix}\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque "
+           "the local helix carries, rho^2 w (2EI w^2 - |F_z|/c), over EI R^2 w0^3"),
+          ("pitch_ratio", "|w|/w_0", "median over the bulk of the pitch rate over the torque-free sqrt(|F_z|/(2EI))"),
+          ("K_ratio", r"K/K_{model}", "bulk wall force per length over the corrected simple model's R F_z^2/(4EI)"),
+          ("K_ratio_from_torque", r"K_\tau/K_{model}", "bulk wall force per length predicted by the local pitch and "
+           "the friction's torque, (EI rho^2 w^4 - w tau)/rho, over R F_z^2/(4EI)"),
+          ("lower_torque_ratio", r"\tau(s_l)\,\mathrm{sgn}\,w/\tau_0", "axial torque the lower region receives "
+           "from the bulk, at its start, signed along the bulk's handedness, over EI R^2 w0^3"),
+          ("lower_azimuthal_share", r"\langle|f_\varphi|/|f|\rangle_{lower}", "mean azimuthal share of the friction "
+           "on the lower region's links on the wall"))
+      for stat, what in (("member", "each member; 0 where has_bulk_member is 0"),
+                         ("mean", "ensemble mean"), ("std", "ensemble standard deviation"))],
+    Quantity("torque_friction", r"\tau", "axial torque carried through the rod at the link centre, from the wall "
+             "friction above it (-Gamma), signed along the bulk's handedness", "EI R-1"),
+    Quantity("torque_helix", r"\tau_{helix}", "axial torque of the local helix, rho^2 w (2EI w^2 - |F_z|/c), signed "
+             "along the bulk's handedness (0 off the helix)", "EI R-1"),
+    Quantity("torque_scale", r"\tau_0", "EI R^2 w0^3, w0 = sqrt(|F_z|/(2EI)): the bending torque of a torque-free "
+             "helix at the local force", "EI R-1"),
+    Quantity("on_helix", "", "link on the wall within the contact stretch, with a defined pitch (1) or not (0)", "1"),
     # Fig 1: shapes
     Quantity("n_turns_scene", "n_{turns}", "turns of the wall-contact stretch about the axis", "1"),
     Quantity("detached_top", "s_h", "length of the detached upper end (loaded end to first wall contact)", "R"),
@@ -363,6 +394,12 @@ _Q = SCENE_PARAMETERS + [
     Quantity("snap_x", "x", "x coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_y", "y", "y coordinate of the link centre (snapshot)", "R"),
     Quantity("snap_z", "z", "z coordinate of the link centre (snapshot)", "R"),
+    Quantity("snap_F_z", "F_z", "axial force transmitted through the joint (snapshot)", "EI R-2"),
+    Quantity("snap_wall_force", "N", "magnitude of the wall normal force on the link (snapshot)", "EI R-2"),
+    Quantity("snap_friction_z", "f_z", "axial component of the wall friction force on the link (snapshot)",
+             "EI R-2"),
+    Quantity("snap_friction_phi", r"f_\varphi", "azimuthal component of the wall friction force on the link "
+             "(snapshot)", "EI R-2"),
 ]
 
 QUANTITIES: dict[str, Quantity] = {q.name: q for q in _Q}

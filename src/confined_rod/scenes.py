@@ -105,6 +105,9 @@ class Scene:
                     printed C = EI/l0^2 read in its units R = 1, i.e. C = EI R/l0^2: a rod of
                     effective bending stiffness EI R/l0). For reproducing the paper's numbers only
       snapshot_interval simulated time between stored shapes; 0 = none
+      snapshot_growth 1 (default): a snapshot every snapshot_interval; g > 1: at t = 0,
+                    snapshot_interval, then each time the simulated time has grown by g
+                    (a few dozen snapshots of how a slow equilibrium forms, not a trajectory)
     """
 
     L: float = 20.0
@@ -136,6 +139,7 @@ class Scene:
     rotational_drag: str = "paper"
     bending_constant: str = "corrected"
     snapshot_interval: float = 0.0
+    snapshot_growth: float = 1.0
     name: str = "scene"
     #: identifies this instance: dataclasses.replace copies it, which tells a resolved
     #: default of the replaced scene (re-resolved) from one passed in (kept)
@@ -334,6 +338,9 @@ def _validate(s: Scene) -> None:
         real(key, positive=True)
     real("k_fr", nonneg=True)
     real("snapshot_interval", nonneg=True)
+    real("snapshot_growth", positive=True)
+    if not s.snapshot_growth >= 1.0:
+        fail("snapshot_growth", "must be >= 1 (1: snapshots at a fixed interval; > 1: at geometrically growing times)")
     for key in ("l0", "k_ph", "k_w", "perturbation", "kick", "t_max", "pore_length", "dx_max"):
         real(key, positive=True, allow_none=True)
     real("friction_cap", nonneg=True, allow_none=True)
@@ -377,7 +384,8 @@ def _validate(s: Scene) -> None:
         own = v is None or (isinstance(v, _Default) and source is not None and v.origin is source)
         object.__setattr__(s, key, _Default(default, origin) if own else float(v))
     object.__setattr__(s, "_origin", origin)
-    for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval", "ramp_start"):
+    for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval", "snapshot_growth",
+                "ramp_start"):
         object.__setattr__(s, key, float(getattr(s, key)))
     object.__setattr__(s, "seed", int(s.seed))
     object.__setattr__(s, "body_force", tuple(float(v) for v in bf))

@@ -17,6 +17,19 @@ STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
 WORK_COUNTERS = ("newton_iterations", "gradients", "factorisations", "rejected_steps")
 
 
+def _snapshot_variables(scene: Scene, st) -> dict[str, xr.Variable]:
+    """Per snapshot (dimension ``time``): the shape, the axial force at the joints and the wall
+    and friction forces on the links, evaluated on the stored state as at the end of a run
+    (links from the loaded end)."""
+    snaps = [obs.compute(scene, r, t) for r, t in zip(st.snapshot_r, st.snapshot_t)]
+    data = {f"snap_{c}": variable(("time", "link"), np.array([o.r[:, i] for o in snaps]), f"snap_{c}")
+            for i, c in enumerate("xyz")}
+    data["snap_F_z"] = variable(("time", "joint"), np.array([o.F_z for o in snaps]), "snap_F_z")
+    for key in ("wall_force", "friction_z", "friction_phi"):
+        data[f"snap_{key}"] = variable(("time", "link"), np.array([getattr(o, key) for o in snaps]), f"snap_{key}")
+    return data
+
+
 def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     """Relax the scene to equilibrium (or escape / time cap) and return its dataset.
 
@@ -59,6 +72,7 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         "contact": variable(("link",), o.contact, "contact"),
         "friction_force": variable(("link",), o.friction_force, "friction_force"),
         "friction_z": variable(("link",), o.friction_z, "friction_z"),
+        "friction_phi": variable(("link",), o.friction_phi, "friction_phi"),
         "stuck": variable(("link",), o.stuck, "stuck"),
         "phi": variable(("helix",), o.phi, "phi"),
         "dphi_ds": variable(("helix",), o.dphi_ds, "dphi_ds"),
@@ -79,11 +93,8 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         "s_helix": variable(("helix",), o.s_helix, "s_helix"),
     }
     if st.snapshot_times:
-        order = np.arange(scene.N)[::-1]
-        snaps = np.asarray(st.snapshot_r)[:, order, :]
         coords["time"] = variable(("time",), np.asarray(st.snapshot_times), "time")
-        for c, name in enumerate(("snap_x", "snap_y", "snap_z")):
-            data[name] = variable(("time", "link"), snaps[:, :, c], name)
+        data.update(_snapshot_variables(scene, st))
     for flag in ("contact", "stuck", "converged", "escaped"):
         data[flag].attrs["flag_values"] = np.array([0, 1], dtype=np.int8)
         data[flag].attrs["flag_meanings"] = "false true"

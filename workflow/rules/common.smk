@@ -42,7 +42,7 @@ _PKG = Path(workflow.basedir) / "src" / "confined_rod"
 _FIGURES = _PKG / "figures"
 POSTPROCESS_SHARED = [
     str(_PKG / f)
-    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py", "regions.py")
+    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py", "regions.py", "torque.py")
 ] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
 STYLE_CODE = [str(_PKG / "plotting.py")]
 _NOT_SIMULATION = set(POSTPROCESS_SHARED + STYLE_CODE) | {
@@ -111,10 +111,11 @@ def path_priority(wildcards):
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
 PAPER = config.get("paper") or {}
-# the claims' measures read datasets through measure.py and ensembles.py, and the pitch law
-# rebuilds the pitch profile of every seed of the same rod (figures/pitch_profile.py)
+# the claims' measures read datasets through measure.py and ensembles.py, the pitch law
+# rebuilds the pitch profile of every seed of the same rod (figures/pitch_profile.py), and a
+# derivation is checked against the torque budget's forms (torque.py)
 CLAIMS_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py", "measure.py", "ensembles.py",
-                                       "figures/pitch_profile.py")]
+                                       "figures/pitch_profile.py", "torque.py")]
 PAPER_CODE = CLAIMS_CODE + [str(_PKG / "paper.py")]
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
                else "config/config.yaml")

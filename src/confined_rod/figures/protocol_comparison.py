@@ -19,20 +19,25 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import ensembles, regions
+from .. import ensembles, regions, torque
 from .. import plotting as P
 from ..errors import ConfigError
 from ..io import variable
 from ..measure import defects
+from ..quantities import label
 from ._common import need_scenes, same_except, scene_coord
 
 OPTIONS = {
     "labels": {"type": "object", "additionalProperties": {"type": "string"},
                "description": "scene id -> a short label of the variant for the figure (default: the scene id)"},
+    "profiles": {"type": "array", "items": {"type": "string"}, "minItems": 1, "maxItems": 4,
+                 "description": "variants whose first seed is drawn along s (force and axial torque); same L and "
+                                "l0 (default: the first three variants)"},
 }
 ENSEMBLES = True
 #: the settings a variant may change; everything else is the same in every variant
-VARIED = ("protocol", "ramp_steps", "ramp_start", "ends", "lower_end", "perturbation", "l0", "seed")
+VARIED = ("protocol", "ramp_steps", "ramp_start", "ends", "lower_end", "perturbation", "l0", "seed",
+          "snapshot_interval", "snapshot_growth")
 
 
 def varied(fig_cfg) -> tuple[str, ...]:
@@ -50,6 +55,18 @@ def validate(figure, fig_cfg, built) -> None:
     for key in fig_cfg.get("labels") or {}:
         if key not in groups:
             raise ConfigError(f"figures.{figure}.labels: {key!r} is not one of its scenes ({', '.join(groups)})")
+    for key in fig_cfg.get("profiles") or []:
+        if key not in groups:
+            raise ConfigError(f"figures.{figure}.profiles: {key!r} is not one of its scenes ({', '.join(groups)})")
+    shown = [groups[b][0] for b in profile_variants(fig_cfg, groups)]
+    if len({(built[m].L, float(built[m].l0)) for m in shown}) > 1:
+        raise ConfigError(f"figures.{figure}.profiles: the variants drawn along s need the same L and l0 "
+                          f"({', '.join(profile_variants(fig_cfg, groups))})")
+
+
+def profile_variants(fig_cfg, groups) -> list[str]:
+    """The variants drawn along s: the option ``profiles``, or the first three."""
+    return list(fig_cfg.get("profiles") or list(groups)[:3])
 
 
 def _describe(sc) -> str:
@@ -83,15 +100,39 @@ def caption(figure, fig_cfg, built) -> str:
 def _member_values(d: xr.Dataset) -> dict[str, float]:
     a = regions.analyse(d)
     n_rev = len(defects(np.asarray(d["s_helix"].values), np.asarray(d["dphi_ds"].values)))
-    return {"fraction": float(d["F_transmitted"]) / float(d.attrs["load"]),
-            "lower_length": a.regions.lower_length, "tip_length": a.regions.tip_length,
-            "n_reversals": float(n_rev), "decay_ratio": a.bulk.rate / a.model if a.bulk and a.model > 0 else np.nan,
-            "converged": float(d["converged"])}
+    b = torque.budget(d)
+    bulk = torque.bulk_summary(d, a.regions.of_links(d["s_link"].values) == 1, b) if a.regions.has_bulk else {}
+    out = {"fraction": float(d["F_transmitted"]) / float(d.attrs["load"]),
+           "lower_length": a.regions.lower_length, "tip_length": a.regions.tip_length,
+           "n_reversals": float(n_rev), "decay_ratio": a.bulk.rate / a.model if a.bulk and a.model > 0 else np.nan,
+           "torque_closure": b.closure, "converged": float(d["converged"])}
+    for key in torque.SUMMARY_KEYS:
+        out[key] = bulk[key] if bulk and a.bulk else np.nan
+    out.update(_lower_torque(d, a, b))
+    return out
 
 
-KEYS = ("fraction", "lower_length", "tip_length", "n_reversals", "decay_ratio")
-NAMES = {"fraction": "fraction_member", "lower_length": "lower_length_member", "tip_length": "tip_length_member",
-         "n_reversals": "n_reversals_member", "decay_ratio": "decay_ratio_member"}
+def _lower_torque(d: xr.Dataset, a: regions.Analysis, b: torque.Budget) -> dict[str, float]:
+    """What the lower region does with the axial torque: the torque over tau_0 it receives
+    from the bulk (at its start, signed along the bulk's handedness), and the azimuthal share
+    |f_phi|/|f| of the friction on its links on the wall (1: friction that only turns)."""
+    reg = a.regions.of_links(d["s_link"].values)
+    lower = (reg == 2) & (np.asarray(d["contact"].values) > 0) & (np.asarray(d["friction_force"].values) > 0)
+    if not a.regions.has_bulk or not a.bulk or not lower.any():
+        return {"lower_torque_ratio": np.nan, "lower_azimuthal_share": np.nan}
+    bulk_w = b.w[(reg == 1) & b.on_helix]
+    sgn = float(np.sign(np.median(bulk_w))) if bulk_w.size else 1.0
+    i = int(np.argmax(reg == 2))
+    f = np.asarray(d["friction_force"].values, dtype=float)[lower]
+    return {"lower_torque_ratio": sgn * float(b.tau_friction[i] / b.tau0[i]),
+            "lower_azimuthal_share": float(np.mean(np.abs(np.asarray(d["friction_phi"].values)[lower]) / f))}
+
+
+#: per member, measured in the bulk (torque.bulk_summary) and at the lower region (_lower_torque);
+#: NaN (has_bulk_member = 0) without a bulk
+BULK_KEYS = ("decay_ratio",) + torque.SUMMARY_KEYS + ("lower_torque_ratio", "lower_azimuthal_share")
+KEYS = ("fraction", "lower_length", "tip_length", "n_reversals", "torque_closure") + BULK_KEYS
+NAMES = {k: f"{k}_member" for k in KEYS}
 
 
 def build(fig_cfg, sims, context=None) -> xr.Dataset:
@@ -106,7 +147,8 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
             for k in grid:
                 grid[k][i, j] = vals[m][k]
     has_rate = (np.isfinite(grid["decay_ratio"]) & (has == 1)).astype(np.int8)
-    grid["decay_ratio"] = np.where(has_rate == 1, grid["decay_ratio"], 0.0)
+    for k in BULK_KEYS:
+        grid[k] = np.where(has_rate == 1, grid[k], 0.0)
     VM = ("variant", "member")
     data = {NAMES[k]: variable(VM, grid[k], NAMES[k]) for k in KEYS}
     data["has_member"] = variable(VM, has, "has_member")
@@ -115,7 +157,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     data["converged"] = variable(("variant",), np.int8(np.where(has == 1, grid["converged"], 1).min(axis=1)),
                                  "converged")
     for k in KEYS:
-        ok = has_rate if k == "decay_ratio" else has
+        ok = has_rate if k in BULK_KEYS else has
         st = [ensembles.stats(grid[k][i, ok[i] == 1]) if ok[i].any() else None for i in range(len(names))]
         data[f"{k}_mean"] = variable(("variant",), [x.mean if x else 0.0 for x in st], f"{k}_mean")
         data[f"{k}_std"] = variable(("variant",), [x.std if x else 0.0 for x in st], f"{k}_std")
@@ -134,6 +176,56 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
               "member": variable(("member",), np.arange(has.shape[1]), "member")}
     ds = xr.Dataset(data, coords=coords)
     _ramp_ladder(ds, groups, sims)
+    return _add_profiles(_add_formation(ds, groups, sims), fig_cfg, groups, sims)
+
+
+def _add_profiles(ds: xr.Dataset, fig_cfg, groups, sims) -> xr.Dataset:
+    """Along s, for the first seed of each variant drawn (``profiles``): |F_z| at the joints,
+    the axial torque the friction left in the rod and the one its helix carries (torque.py),
+    signed so that positive is along the handedness of the bulk, and the region of each link."""
+    shown = profile_variants(fig_cfg, groups)
+    first = [sims[groups[b][0]] for b in shown]
+    tau_fr, tau_hx, on, reg, F, tau0 = [], [], [], [], [], []
+    for d in first:
+        b = torque.budget(d)
+        a = regions.analyse(d)
+        r = a.regions.of_links(d["s_link"].values)
+        w_bulk = b.w[(r == 1) & b.on_helix] if a.regions.has_bulk else b.w[b.on_helix]
+        sgn = float(np.sign(np.median(w_bulk))) if w_bulk.size and np.median(w_bulk) != 0 else 1.0
+        tau_fr.append(sgn * b.tau_friction)
+        tau_hx.append(sgn * b.tau_helix)
+        on.append(b.on_helix.astype(np.int8))
+        reg.append(r)
+        F.append(np.abs(np.asarray(d["F_z"].values, dtype=float)))
+        tau0.append(b.tau0)
+    PL, PJ = ("profile", "link"), ("profile", "joint")
+    ds = ds.assign({
+        "profile_F_abs": variable(PJ, np.array(F), "F_abs"),
+        "profile_torque_friction": variable(PL, np.array(tau_fr), "torque_friction"),
+        "profile_torque_helix": variable(PL, np.array(tau_hx), "torque_helix"),
+        "profile_torque_scale": variable(PL, np.array(tau0), "torque_scale"),
+        "profile_on_helix": variable(PL, np.array(on), "on_helix"),
+        "profile_region": variable(PL, np.array(reg), "region"),
+    })
+    return ds.assign_coords(profile=scene_coord("variant", shown),
+                            s=variable(("joint",), np.asarray(first[0]["s"].values), "s"),
+                            s_link=variable(("link",), np.asarray(first[0]["s_link"].values), "s_link"))
+
+
+def _add_formation(ds: xr.Dataset, groups, sims) -> xr.Dataset:
+    """|F_z| along s at the stored snapshot times of the first seed of the first variant that
+    stores snapshots (scene parameters snapshot_interval, snapshot_growth): how the equilibrium
+    and its lower region form during the run."""
+    for base, members in groups.items():
+        d = sims[members[0]]
+        if "snap_F_z" in d:
+            ds = ds.assign({"formation_F_abs": variable(("time", "formation_joint"),
+                                                        np.abs(np.asarray(d["snap_F_z"].values, dtype=float)), "F_abs")})
+            ds = ds.assign_coords(time=variable(("time",), np.asarray(d["time"].values, dtype=float), "time"),
+                                  formation_s=variable(("formation_joint",), np.asarray(d["s"].values), "s"))
+            ds.attrs["formation_variant"] = base
+            ds.attrs["formation_seed"] = int(d.attrs["seed"])
+            return ds
     return ds
 
 
@@ -165,15 +257,41 @@ def _ramp_ladder(ds: xr.Dataset, groups: dict[str, list[str]], sims) -> None:
             f"largest single {100 * r[4]:.1f} %, change of the mean {100 * r[5]:+.2f} % ({r[6]} seeds)" for r in rows)
 
 
+PANELS = (("fraction", r"$|F_z(L)|/|F_z(0)|$"), ("lower_length", r"lower region $L - s_l$ [$R$]"),
+          ("n_reversals", "reversals"), ("decay_ratio", "bulk decay rate\nover $k_{fr}R/(4EI)$"),
+          ("torque_friction_ratio", "bulk axial torque\n" + r"$\tau\,\mathrm{sgn}\,w\,/\,\tau_0$"))
+PROFILE_COLORS = ("black", "tab:red", "tab:blue", "tab:green")
+
+
 def plot(ds: xr.Dataset):
     n = ds.sizes["variant"]
-    fig, axes = P.plt.subplots(1, 4, figsize=(7.0, 0.9 + 0.32 * n), sharey=True, label=ds.attrs["title"])
+    top = 0.9 + 0.3 * n
+    fig = P.plt.figure(figsize=(7.0, min(top + 2.3, P.MAX_HEIGHT_IN)), label=ds.attrs["title"])
+    gs = fig.add_gridspec(2, 1, height_ratios=[top, 2.3], hspace=0.5)
+    row1 = gs[0].subgridspec(1, len(PANELS), wspace=0.12)
+    axes = [fig.add_subplot(row1[0, 0])]
+    axes += [fig.add_subplot(row1[0, k], sharey=axes[0]) for k in range(1, len(PANELS))]
+    _plot_variants(ds, axes)
+    n_bottom = 3 if "formation_F_abs" in ds else 2
+    row2 = gs[1].subgridspec(1, n_bottom, wspace=0.38)
+    bottom = [fig.add_subplot(row2[0, k]) for k in range(n_bottom)]
+    _plot_profiles(ds, bottom[0], bottom[1])
+    if n_bottom == 3:
+        _plot_formation(ds, bottom[2])
+    for k, ax in enumerate(bottom):
+        ax.set_title(f"({chr(97 + len(PANELS) + k)})", fontsize=9, loc="left")
+        ax.tick_params(labelsize=7.5)
+    fig.subplots_adjust(left=0.17, right=0.985, top=0.96, bottom=0.1)
+    return fig
+
+
+def _plot_variants(ds: xr.Dataset, axes) -> None:
+    n = ds.sizes["variant"]
     y = np.arange(n)[::-1]
     has = ds["has_member"].values == 1
-    panels = (("fraction", r"$|F_z(L)|/|F_z(0)|$", has), ("lower_length", r"lower region $L - s_l$ [$R$]", has),
-              ("n_reversals", "reversals", has),
-              ("decay_ratio", "bulk decay rate\nover $k_{fr}R/(4EI)$", ds["has_bulk_member"].values == 1))
-    for k, (ax, (key, xlabel, ok)) in enumerate(zip(axes, panels)):
+    has_bulk = ds["has_bulk_member"].values == 1
+    for k, (ax, (key, xlabel)) in enumerate(zip(axes, PANELS)):
+        ok = has_bulk if key in BULK_KEYS else has
         vals = ds[NAMES[key]].values
         for i in range(n):
             jitter = np.linspace(-0.12, 0.12, vals.shape[1])
@@ -187,12 +305,73 @@ def plot(ds: xr.Dataset):
             ax.axvline(1.0, **P.MODEL)
             ax.axvline(2.0, **P.PAPER)
             ax.set_xlim(0, 2.3)
-        ax.set_xlabel(xlabel, fontsize=8)
-        ax.set_title(f"({chr(97 + k)})", fontsize=9, loc="left")
+        if key == "torque_friction_ratio":
+            ax.axvline(0.0, color="tab:blue", ls="--", lw=1.0)
+        ax.set_xlabel(xlabel, fontsize=7.5)
+        ax.set_title(f"({chr(97 + k)})", fontsize=9, loc="left", pad=2)
         ax.tick_params(labelsize=7.5)
         ax.set_ylim(-0.6, n - 0.4)
+        if k:
+            ax.tick_params(labelleft=False)
     axes[0].set_yticks(y)
     axes[0].set_yticklabels([str(v) for v in ds["variant_label"].values], fontsize=7.5)
     axes[0].legend(loc="lower right", fontsize=7, handletextpad=0.2)
-    fig.tight_layout(w_pad=0.6)
-    return fig
+
+
+def _label(ds: xr.Dataset, base: str) -> str:
+    names = [str(v) for v in ds["variant"].values]
+    return str(ds["variant_label"].values[names.index(base)]) if base in names else base
+
+
+def _plot_profiles(ds: xr.Dataset, ax_f, ax_t) -> None:
+    """|F_z|/|F_z(0)| and the axial torque over tau_0 along s for the first seed of the variants
+    drawn, the start of the lower region of each marked by a triangle; the helix's own torque
+    is drawn beyond the tip (in the tip the contacts are isolated: no helix)."""
+    s, s_link = ds["s"].values, ds["s_link"].values
+    for i, base in enumerate(ds["profile"].values):
+        color = PROFILE_COLORS[i % len(PROFILE_COLORS)]
+        F = ds["profile_F_abs"].values[i]
+        ax_f.plot(s, F / F[0], color=color, lw=1.2, label=_label(ds, str(base)))
+        reg = ds["profile_region"].values[i]
+        if (reg == 2).any():
+            s_l = float(s_link[np.argmax(reg == 2)])
+            ax_f.plot([s_l], [float(np.interp(s_l, s, F / F[0]))], "v", color=color, ms=5)
+        tau0 = ds["profile_torque_scale"].values[i]
+        ax_t.plot(s_link, ds["profile_torque_friction"].values[i] / tau0, color=color, lw=1.2)
+        on = (ds["profile_on_helix"].values[i] == 1) & (reg > 0)
+        ax_t.plot(s_link[on][::8], (ds["profile_torque_helix"].values[i] / tau0)[on][::8], "o", ms=2.2, mfc="none",
+                  mec=color, mew=0.6)
+    ax_f.set_yscale("log")
+    P.plain_log_ticks(ax_f.yaxis)
+    ax_f.set_xlabel(label("s"), fontsize=8)
+    ax_f.set_ylabel(r"$|F_z(s)|/|F_z(0)|$", fontsize=8)
+    ax_f.legend(fontsize=7, loc="lower left", handlelength=1.4)
+    ax_t.axhline(0.0, color="tab:blue", ls="--", lw=1.0)
+    ax_t.plot([], [], color="0.3", lw=1.2, label=r"$-\Gamma(s)$, from friction")
+    ax_t.plot([], [], "o", ms=2.5, mfc="none", mec="0.3", label="from local helix")
+    ax_t.set_xlabel(label("s"), fontsize=8)
+    ax_t.set_ylabel(r"axial torque $\tau\,\mathrm{sgn}\,w\,/\,\tau_0(s)$", fontsize=8)
+    lo, hi = ax_t.get_ylim()
+    ax_t.set_ylim(lo, hi + 0.45 * (hi - lo))
+    ax_t.legend(fontsize=7, loc="upper center", handlelength=1.4)
+
+
+def _plot_formation(ds: xr.Dataset, ax) -> None:
+    t = ds["time"].values
+    F = ds["formation_F_abs"].values
+    s = ds["formation_s"].values
+    keep = [k for k in range(t.size) if t[k] > 0]
+    cmap = P.plt.get_cmap("viridis")
+    lo, hi = np.log10(t[keep[0]]), np.log10(t[keep[-1]])
+    marked = {keep[0], keep[len(keep) // 2], keep[-1]}
+    for k in keep:
+        frac = (np.log10(t[k]) - lo) / max(hi - lo, 1e-12)
+        last = k == keep[-1]
+        ax.plot(s, F[k] / F[k][0], color="black" if last else cmap(0.9 * frac), lw=1.5 if last else 0.9,
+                label=(("final, " if last else "") + f"$t = {P.sci(t[k])}$") if k in marked else None, zorder=3 if last else 2)
+    ax.set_yscale("log")
+    P.plain_log_ticks(ax.yaxis)
+    ax.set_xlabel(label("s"), fontsize=8)
+    ax.set_ylabel(r"$|F_z(s)|/|F_z(0)|$ while forming", fontsize=8)
+    ax.legend(fontsize=7, loc="upper right", handlelength=1.2, framealpha=0.9,
+              title=f"{_label(ds, ds.attrs['formation_variant'])}, seed {ds.attrs['formation_seed']}", title_fontsize=7)

@@ -57,6 +57,7 @@ class RunState:
     eps_M: float = np.inf
     snapshot_times: list = field(default_factory=list)
     snapshot_r: list = field(default_factory=list)
+    snapshot_t: list = field(default_factory=list)
     stage_converged: list = field(default_factory=list)
     work: dict = field(default_factory=dict)  # solver counters (Newton iterations, rejected steps, ...)
     anchor: np.ndarray | None = None  # implicit solver: stick anchors of the links on the wall
@@ -69,6 +70,7 @@ class RunState:
                 "raise snapshot_interval (or lower t_max)")
         self.snapshot_times.append(self.time)
         self.snapshot_r.append(self.r.copy())
+        self.snapshot_t.append(self.t.copy())
 
     def count(self, key: str, n: int = 1) -> None:
         self.work[key] = self.work.get(key, 0) + n
@@ -155,6 +157,15 @@ def _duration(seconds: float) -> str:
     return f"{seconds / 3600:.1f} h"
 
 
+def next_snapshot(scene: Scene, last: float) -> float:
+    """The snapshot time after ``last``: a fixed interval (snapshot_growth = 1), or from
+    snapshot_interval on, each time the simulated time has grown by snapshot_growth."""
+    g, dt = scene.snapshot_growth, scene.snapshot_interval
+    if g > 1.0:
+        return last * g if last >= dt else dt
+    return last + dt
+
+
 def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None = None,
           progress: bool = True, label: str = "", follow_escape: bool = False) -> RunState:
     """Advance until equilibrium, escape, or the time cap (t_end or scene.t_max);
@@ -167,7 +178,7 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
     t_cap = scene.t_max if t_end is None else t_end
     snap_dt = scene.snapshot_interval
     snap_limit = snapshot_limit(scene)
-    next_snap = (st.snapshot_times[-1] + snap_dt) if (snap_dt > 0 and st.snapshot_times) else st.time
+    next_snap = next_snapshot(scene, st.snapshot_times[-1]) if (snap_dt > 0 and st.snapshot_times) else st.time
     st.converged = False
     tol = equilibrium_tol(scene)
     if progress and tol > scene.tol:
@@ -178,7 +189,8 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
     while True:
         if snap_dt > 0 and st.time >= next_snap - 1e-12:
             st.take_snapshot(snap_limit, scene.name)
-            next_snap += snap_dt * max(1, np.floor((st.time - next_snap) / snap_dt) + 1)
+            while next_snap <= st.time + 1e-12:
+                next_snap = next_snapshot(scene, next_snap)
         t_stop = min(t_cap, next_snap) if snap_dt > 0 else t_cap
         code = stepper.advance(st, t_stop)
         check_state(scene, st.r, st.t, st.steps, st.time, stepper.step_hint)
