@@ -753,8 +753,14 @@ def torque_budget_closes(ev, spec, claim):
         ds = ev.dataset(fig, claim)
         files.append(f"results/datasets/{fig}.nc:torque_closure_member, torque_friction_ratio_member, "
                      "torque_helix_ratio_member")
-        free = (ds["variant_ends"].values == "free")[:, None]
-        has, bulk = (ds["has_member"].values == 1) & free, (ds["has_bulk_member"].values == 1) & free
+        free = (ds["variant_ends"].values == "free")[:, None] & (ds["has_member"].values == 1)
+        # away from equilibrium the budget need not close: those runs are no evidence
+        off = free & (ds["converged_member"].values == 0)
+        if off.any():
+            parts.append(f"{fig}: {int(off.sum())} runs not at equilibrium left out (" + ", ".join(
+                f"{ds.variant.values[i]} member {j}" for i, j in zip(*np.nonzero(off))) + ")")
+        has = free & ~off
+        bulk = has & (ds["has_bulk_member"].values == 1)
         c = ds["torque_closure_member"].values[has]
         fr, hx = ds["torque_friction_ratio_member"].values[bulk], ds["torque_helix_ratio_member"].values[bulk]
         d = np.abs(fr - hx) / (1 + np.abs(fr))
@@ -789,6 +795,9 @@ def loading_path_torque(ev, spec, claim):
     rows = []
     for v in spec["variants"]:
         i = _variant(ds, v, claim)
+        if not ds["has_bulk_member"].values[i].any():
+            return 0.0, None, f"results/datasets/{spec['figure']}.nc:has_bulk_member", \
+                f"no run of variant {v!r} has a bulk helix (L/R = {float(ds.attrs.get('L', 0)):g}): nothing to compare"
         rows.append((v, {k: _mean_sd(ds, k, i) for k in ("torque_friction_ratio", "pitch_ratio", "K_ratio",
                                                            "K_ratio_from_torque", "decay_ratio", "fraction")}))
     apart = all(abs(a[1]["torque_friction_ratio"][0] - b[1]["torque_friction_ratio"][0])
@@ -810,6 +819,9 @@ def lower_region_torque(ev, spec, claim):
     s.d. and the mean azimuthal share of the friction exceeds `min_share`. Value: the share."""
     ds = ev.dataset(spec["figure"], claim)
     i = _variant(ds, spec["variant"], claim)
+    if not ds["has_lower_member"].values[i].any():
+        return 0.0, None, f"results/datasets/{spec['figure']}.nc:has_lower_member", \
+            f"no run of variant {spec['variant']!r} has a bulk helix and a lower region: nothing to measure"
     tq, tq_sd = _mean_sd(ds, "lower_torque_ratio", i)
     share, share_sd = _mean_sd(ds, "lower_azimuthal_share", i)
     q, _ = _mean_sd(ds, "lower_length", i)

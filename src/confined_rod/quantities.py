@@ -375,6 +375,8 @@ _Q = SCENE_PARAMETERS + [
              "friction above it (-Gamma), signed along the bulk's handedness", "EI R-1"),
     Quantity("torque_helix", r"\tau_{helix}", "axial torque of the local helix, rho^2 w (2EI w^2 - |F_z|/c), signed "
              "along the bulk's handedness (0 off the helix)", "EI R-1"),
+    Quantity("has_lower_member", "", "1 where the member has a bulk and a lower region on the wall", "1"),
+    Quantity("converged_member", "", "the member reached the equilibrium criterion (1) or not (0)", "1"),
     Quantity("torque_scale", r"\tau_0", "EI R^2 w0^3, w0 = sqrt(|F_z|/(2EI)): the bending torque of a torque-free "
              "helix at the local force", "EI R-1"),
     Quantity("on_helix", "", "link on the wall within the contact stretch, with a defined pitch (1) or not (0)", "1"),

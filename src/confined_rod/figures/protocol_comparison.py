@@ -147,18 +147,24 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
             for k in grid:
                 grid[k][i, j] = vals[m][k]
     has_rate = (np.isfinite(grid["decay_ratio"]) & (has == 1)).astype(np.int8)
+    # a member counts for a bulk quantity where it has a bulk and the quantity is defined
+    # (the lower region's torque needs a lower region on the wall)
+    ok_of = {k: (has_rate == 1) & np.isfinite(grid[k]) if k in BULK_KEYS else has == 1 for k in KEYS}
+    has_lower = ok_of["lower_torque_ratio"].astype(np.int8)
     for k in BULK_KEYS:
-        grid[k] = np.where(has_rate == 1, grid[k], 0.0)
+        grid[k] = np.where(ok_of[k], grid[k], 0.0)
     VM = ("variant", "member")
     data = {NAMES[k]: variable(VM, grid[k], NAMES[k]) for k in KEYS}
     data["has_member"] = variable(VM, has, "has_member")
     data["has_bulk_member"] = variable(VM, has_rate, "has_bulk_member")
+    data["has_lower_member"] = variable(VM, has_lower, "has_lower_member")
     data["member_seed"] = variable(VM, pad.values(lambda d: float(d.attrs["seed"])).astype(np.int64), "member_seed")
+    data["converged_member"] = variable(VM, np.int8(np.where(has == 1, grid["converged"], 0)), "converged_member")
     data["converged"] = variable(("variant",), np.int8(np.where(has == 1, grid["converged"], 1).min(axis=1)),
                                  "converged")
     for k in KEYS:
-        ok = has_rate if k in BULK_KEYS else has
-        st = [ensembles.stats(grid[k][i, ok[i] == 1]) if ok[i].any() else None for i in range(len(names))]
+        ok = ok_of[k]
+        st = [ensembles.stats(grid[k][i, ok[i]]) if ok[i].any() else None for i in range(len(names))]
         data[f"{k}_mean"] = variable(("variant",), [x.mean if x else 0.0 for x in st], f"{k}_mean")
         data[f"{k}_std"] = variable(("variant",), [x.std if x else 0.0 for x in st], f"{k}_std")
     labels = fig_cfg.get("labels") or {}
@@ -207,7 +213,7 @@ def _add_profiles(ds: xr.Dataset, fig_cfg, groups, sims) -> xr.Dataset:
         "profile_on_helix": variable(PL, np.array(on), "on_helix"),
         "profile_region": variable(PL, np.array(reg), "region"),
     })
-    return ds.assign_coords(profile=scene_coord("variant", shown),
+    return ds.assign_coords(profile=scene_coord("profile", shown),
                             s=variable(("joint",), np.asarray(first[0]["s"].values), "s"),
                             s_link=variable(("link",), np.asarray(first[0]["s_link"].values), "s_link"))
 
