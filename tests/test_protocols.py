@@ -78,3 +78,31 @@ def test_ramp_ladder_pairs_members_by_seed():
     assert ds.attrs["ramp_ladder_max_change"][0] == pytest.approx(0.1)
     assert ds.attrs["ramp_ladder_mean_change"][0] == pytest.approx(0.58 / 0.6 - 1)
     assert "8 -> 16 steps" in ds.attrs["ramp_ladder"]
+
+
+def test_protocol_comparison_stores_the_torque_and_the_formation():
+    """Two variants of a short rod, one storing snapshots: per member the torque closure and the
+    bulk ratios, along s the force and torque of the variants drawn, the force while forming;
+    nothing NaN, and the figure draws."""
+    from confined_rod import plotting as P
+    from confined_rod import simulate
+    from confined_rod.io import check_finite
+
+    sims = {}
+    for seed in (0, 1):
+        sims[f"straight-s{seed}"] = simulate(Scene(L=40, load=0.25, seed=seed, snapshot_interval=50.0,
+                                                   snapshot_growth=2.0, name=f"straight-s{seed}"), progress=False)
+        sims[f"helix-s{seed}"] = simulate(Scene(L=40, load=0.25, seed=seed, protocol="helix",
+                                                name=f"helix-s{seed}"), progress=False)
+    ds = pc.build({"profiles": ["straight", "helix"]}, sims)
+    check_finite(ds, "test")
+    assert list(ds.profile.values) == ["straight", "helix"]
+    assert ds.attrs["formation_variant"] == "straight" and ds.sizes["time"] >= 5
+    np.testing.assert_allclose(ds.formation_F_abs.values[:, 0], 0.25)
+    assert np.all(ds.torque_closure_member.values < 1e-3)
+    # the profile drawn is the first seed's, from the loaded end
+    np.testing.assert_allclose(ds.profile_F_abs.values[0], np.abs(sims["straight-s0"].F_z.values))
+    ds.attrs.update(kind="protocol_comparison", title="test")
+    fig = pc.plot(ds)
+    assert len(fig.axes) == 8
+    P.plt.close(fig)

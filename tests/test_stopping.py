@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from confined_rod import DivergenceError, Scene, simulate
+from confined_rod.errors import SceneError
 from confined_rod.solvers import base, explicit
 
 
@@ -119,3 +120,19 @@ def test_the_equilibrium_tolerance_is_lifted_only_to_the_round_off_floor():
     assert 1e-4 < equilibrium_tol(long) < 1.5e-4
     half = Scene(L=320, load=0.25, l0=0.5, k_ph=1e4, tol=1e-6)
     assert equilibrium_tol(half) == pytest.approx(equilibrium_tol(long) / 4, rel=0.01)
+
+
+def test_snapshots_at_growing_times_store_the_force_along_the_rod():
+    """snapshot_growth g: t = 0, dt, dt g, dt g^2, ... and the final state, each with |F_z| along s
+    evaluated on the stored state (the loaded end carries the load at every time)."""
+    sc = Scene(L=10.0, load=0.5, k_fr=0.8, t_max=200.0, snapshot_interval=5.0, snapshot_growth=2.0)
+    d = simulate(sc, progress=False)
+    times = d.time.values
+    n = int(np.floor(np.log2(float(d.t_final) / 5.0))) + 1      # 5, 10, 20, ... below t_final
+    np.testing.assert_allclose(times[1:n + 1], 5.0 * 2.0 ** np.arange(n), atol=2 * d.attrs["dt"])
+    assert times[0] == 0.0 and times[-1] == pytest.approx(float(d.t_final))
+    np.testing.assert_allclose(d.snap_F_z.values[:, 0], -0.5)
+    np.testing.assert_allclose(d.snap_F_z.isel(time=-1), d.F_z, atol=1e-12)
+    np.testing.assert_allclose(d.snap_friction_phi.isel(time=-1), d.friction_phi, atol=1e-12)
+    with pytest.raises(SceneError, match="snapshot_growth"):
+        Scene(L=10.0, snapshot_interval=5.0, snapshot_growth=0.5)

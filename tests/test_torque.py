@@ -88,3 +88,20 @@ def test_bulk_summary_of_the_constructed_helix():
     assert out["K_ratio"] == pytest.approx(out["K_ratio_from_torque"], rel=1e-3)
     assert out["pitch_ratio"] == pytest.approx(np.median(abs(W) / np.sqrt(F / 2)), rel=1e-9)
     assert torque.bulk_summary(ds, np.zeros(N, dtype=bool))["K_ratio"] == 0.0
+
+
+def test_the_simulated_friction_closes_the_torque_budget():
+    """A frictional rod in equilibrium with both ends free to turn: the wall friction's total
+    axial torque vanishes to the equilibrium tolerance, and in the bulk helix the torque it leaves
+    in the rod equals the one the local helix carries."""
+    from confined_rod import Scene, regions, simulate
+
+    d = simulate(Scene(L=60.0, load=0.25, k_fr=0.8, seed=2, tol=1e-6), progress=False)
+    assert d.attrs["status"] == "converged"
+    b = torque.budget(d)
+    assert b.closure < 1e-4
+    a = regions.analyse(d)
+    assert a.regions.has_bulk
+    bulk = (a.regions.of_links(d["s_link"].values) == 1) & b.on_helix
+    diff = np.abs(b.tau_friction[bulk] - b.tau_helix[bulk]) / (b.tau0[bulk] + np.abs(b.tau_friction[bulk]))
+    assert np.median(diff) < 0.05

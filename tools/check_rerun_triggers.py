@@ -29,6 +29,7 @@ PROBES = {
     PKG / "fits.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
     PKG / "measure.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
     PKG / "regions.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
+    PKG / "torque.py": ({"postprocess", "figure", "claims"}, {"simulate", "probe", "load_path"}),
     PKG / "figures" / "force_profile.py": ({"postprocess", "figure"},
                                            {"simulate", "probe", "load_path", "convergence_check"}),
     PKG / "figures" / "pitch_profile.py": ({"postprocess", "figure"},

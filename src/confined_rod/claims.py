@@ -57,6 +57,12 @@ class Evidence:
     """The datasets (by figure) and scene simulations (by 'figure/scene') a build has."""
     datasets: Mapping[str, xr.Dataset]
     sims: Mapping[str, xr.Dataset] = field(default_factory=dict)
+    #: 'figure/scene' -> the file it was read from (a run shared by several figures is one file)
+    files: Mapping[str, str] = field(default_factory=dict)
+
+    def file(self, key: str) -> str:
+        """The path of the simulation 'figure/scene' as the build has it (evidence strings)."""
+        return self.files.get(key, f"results/sims/{key}.nc")
 
     def dataset(self, figure: str, claim: str) -> xr.Dataset:
         if figure not in self.datasets:
@@ -223,13 +229,13 @@ def wall_force_coefficient(ev, spec, claim):
     measured pitch rate w = dphi/ds of each link (docs/model.md, "The paper's simple model")."""
     key, sim = ev.sim(spec["figure"], -1, claim)
     if float(sim.attrs["k_fr"]) != 0.0:
-        raise ClaimError(f"claim {claim!r}: results/sims/{key}.nc has k_fr = {sim.attrs['k_fr']}, needs 0")
+        raise ClaimError(f"claim {claim!r}: {ev.file(key)} has k_fr = {sim.attrs['k_fr']}, needs 0")
     R, EI = float(sim.attrs["R"]), float(sim.attrs["EI"])
     K = np.asarray(sim.wall_force_density.values)
     F = force_at_links(sim)
     bulk = _bulk(np.asarray(sim.contact.values) > 0)
     if bulk.size == 0:
-        raise ClaimError(f"claim {claim!r}: results/sims/{key}.nc has no helix on the wall")
+        raise ClaimError(f"claim {claim!r}: {ev.file(key)} has no helix on the wall")
     s_link = np.asarray(sim.s_link.values)[bulk]
     w = np.interp(s_link, np.asarray(sim.s_helix.values), np.abs(np.asarray(sim.dphi_ds.values)))
     value = float(np.median(K[bulk] * EI / (R * F[bulk] ** 2)))
@@ -240,7 +246,7 @@ def wall_force_coefficient(ev, spec, claim):
     note = (f"exact constant pitch 1/(4(1 - R^2 w^2)) = {exact:.4g} (median R w = {float(np.median(R * w)):.3g}): "
             f"{100 * dev_exact:+.2f} %; lowest order 1/4: {100 * dev_lowest:+.3g} %; the paper's 1/2: "
             f"{100 * (value / 0.5 - 1):+.3g} %. The data confirm {confirmed}")
-    return value, True, (f"results/sims/{key}.nc:wall_force_density, F_z, dphi_ds "
+    return value, True, (f"{ev.file(key)}:wall_force_density, F_z, dphi_ds "
                          "(medians over the middle half of the contact)"), note
 
 
@@ -253,7 +259,7 @@ def capped_fraction(ev, spec, claim):
     on = N > 0
     capped = on & (cap > 0) & (k_fr * N > cap * l0)
     value = float(capped.sum() / max(on.sum(), 1))
-    return value, value <= float(spec["max"]), f"results/sims/{key}.nc:wall_force, attrs k_fr, friction_cap", \
+    return value, value <= float(spec["max"]), f"{ev.file(key)}:wall_force, attrs k_fr, friction_cap", \
         f"{int(capped.sum())} of {int(on.sum())} links"
 
 
@@ -825,10 +831,12 @@ def lower_region_torque(ev, spec, claim):
     tq, tq_sd = _mean_sd(ds, "lower_torque_ratio", i)
     share, share_sd = _mean_sd(ds, "lower_azimuthal_share", i)
     q, _ = _mean_sd(ds, "lower_length", i)
+    used, stuck = _mean_sd(ds, "lower_utilisation", i)[0], _mean_sd(ds, "lower_stuck_share", i)[0]
     holds = abs(tq) > 2 * tq_sd and share > float(spec["min_share"])
     return share, holds, f"results/datasets/{spec['figure']}.nc:lower_torque_ratio_mean, lower_azimuthal_share_mean", \
         (f"{spec['variant']}: the lower region ({q:.0f} R) receives tau/tau_0 = {tq:.2f} +- {tq_sd:.2f} from the bulk "
-         f"and sheds it to 0 at the free end; azimuthal share of its friction {share:.2f} +- {share_sd:.2f}")
+         f"and sheds it to 0 at the free end; azimuthal share of its friction {share:.2f} +- {share_sd:.2f}, the "
+         f"friction at {used:.2f} of its limit, {100 * stuck:.0f} % of its links on the wall stuck")
 
 
 @measure
@@ -913,7 +921,7 @@ def boundary_wider(ev, spec, claim):
     if holds is None:
         note += "; only one end is wider"
     return top7 / max(top4, 1e-300), holds, \
-        f"results/sims/{m7[0][0]}.nc, results/sims/{m4[0][0]}.nc (and their seeds):contact, s_link", note
+        f"{ev.file(m7[0][0])}, {ev.file(m4[0][0])} (and their seeds):contact, s_link", note
 
 
 @measure

@@ -494,10 +494,9 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     """\\val{<figure>.<variant>.fraction} (mean +- s.d. of F(L)/F(0)), .lower_length, .decay_ratio,
     .n_reversals, and \\val{<figure>.ramp_change} (the finest ramp step's paired change of F(L), %)."""
     two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_ratio", "K_ratio", "K_ratio_from_torque",
-           "lower_torque_ratio", "lower_azimuthal_share")
+           "lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
     for i, v in enumerate(ds.variant.values):
-        for key in ("fraction", "lower_length", "tip_length", "decay_ratio", "n_reversals", "torque_friction_ratio",
-                    "pitch_ratio", "K_ratio", "K_ratio_from_torque", "lower_torque_ratio", "lower_azimuthal_share"):
+        for key in ("lower_length", "tip_length", "n_reversals") + two:
             if f"{key}_mean" not in ds:
                 continue
             value = [(float(ds[f"{key}_mean"].values[i]), float(ds[f"{key}_std"].values[i]))]

@@ -368,7 +368,11 @@ _Q = SCENE_PARAMETERS + [
           ("lower_torque_ratio", r"\tau(s_l)\,\mathrm{sgn}\,w/\tau_0", "axial torque the lower region receives "
            "from the bulk, at its start, signed along the bulk's handedness, over EI R^2 w0^3"),
           ("lower_azimuthal_share", r"\langle|f_\varphi|/|f|\rangle_{lower}", "mean azimuthal share of the friction "
-           "on the lower region's links on the wall"))
+           "on the lower region's links on the wall"),
+          ("lower_utilisation", r"\langle|f|/f_{max}\rangle_{lower}", "mean friction utilisation |f|/min(k_fr N, "
+           "friction_cap l0) on the lower region's links on the wall"),
+          ("lower_stuck_share", r"\langle\mathrm{stuck}\rangle_{lower}", "share of the lower region's links on the "
+           "wall in static friction"))
       for stat, what in (("member", "each member; 0 where has_bulk_member is 0"),
                          ("mean", "ensemble mean"), ("std", "ensemble standard deviation"))],
     Quantity("torque_friction", r"\tau", "axial torque carried through the rod at the link centre, from the wall "

@@ -193,6 +193,12 @@ def analyse(sim: xr.Dataset) -> Analysis:
     return Analysis(reg, q, smooth(q, int(round(WINDOW_R * R / l0))), bulk, whole, model, paper)
 
 
+#: the scalars of summary(), in the order the figure datasets store them (quantities.py names)
+SUMMARY_KEYS = ("has_bulk", "s_bulk_start", "s_bulk_end", "tip_length", "bulk_length", "lower_length",
+                "lower_q_mean", "lower_force_drop", "bulk_decay_rate", "bulk_decay_rate_err", "whole_decay_rate",
+                "whole_decay_rate_err", "decay_rate_model", "decay_rate_paper", "decay_ratio")
+
+
 def summary(sim: xr.Dataset, a: Analysis | None = None) -> dict[str, float]:
     """The scalars a figure dataset stores per run (quantities.py names; 0 with has_bulk = 0
     where there is no bulk): region boundaries and lengths, the lower region's mean axial

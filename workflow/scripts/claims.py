@@ -11,7 +11,8 @@ sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logged(sm.log[0]):
     datasets = {f: xr.load_dataset(p) for f, p in zip(sm.params.figures, sm.input.datasets)}
     sims = {k: xr.load_dataset(p) for k, p in zip(sm.params.sim_keys, sm.input.sims)}
-    verdicts = claims.evaluate(claims.load(sm.input.claims), claims.Evidence(datasets, sims))
+    files = {k: str(p) for k, p in zip(sm.params.sim_keys, sm.input.sims)}
+    verdicts = claims.evaluate(claims.load(sm.input.claims), claims.Evidence(datasets, sims, files))
     for v in verdicts:
         print(f"{v.id:28s} {v.verdict:26s} paper {v.paper[:30]!r:34s} ours {v.ours[:30]!r:34s} {v.evidence}")
     write_dataset(claims.to_dataset(verdicts, claims.finding_titles(sm.input.claims)), sm.output.nc)

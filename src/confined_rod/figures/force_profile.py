@@ -142,9 +142,7 @@ def _fit(d: xr.Dataset, trim: float):
     return fit_power_law(s[window], F[window], guess=(guess_A, guess_l0, -1.0))
 
 
-REGION_KEYS = ("has_bulk", "s_bulk_start", "s_bulk_end", "tip_length", "bulk_length", "lower_length",
-               "lower_q_mean", "lower_force_drop", "bulk_decay_rate", "bulk_decay_rate_err", "whole_decay_rate",
-               "whole_decay_rate_err", "decay_rate_model", "decay_rate_paper", "decay_ratio")
+REGION_KEYS = regions.SUMMARY_KEYS
 
 
 def _bulk_fit(d: xr.Dataset, a: regions.Analysis):

@@ -119,18 +119,32 @@ def _lower_torque(d: xr.Dataset, a: regions.Analysis, b: torque.Budget) -> dict[
     reg = a.regions.of_links(d["s_link"].values)
     lower = (reg == 2) & (np.asarray(d["contact"].values) > 0) & (np.asarray(d["friction_force"].values) > 0)
     if not a.regions.has_bulk or not a.bulk or not lower.any():
-        return {"lower_torque_ratio": np.nan, "lower_azimuthal_share": np.nan}
+        return dict.fromkeys(LOWER_KEYS, np.nan)
     bulk_w = b.w[(reg == 1) & b.on_helix]
     sgn = float(np.sign(np.median(bulk_w))) if bulk_w.size else 1.0
     i = int(np.argmax(reg == 2))
     f = np.asarray(d["friction_force"].values, dtype=float)[lower]
     return {"lower_torque_ratio": sgn * float(b.tau_friction[i] / b.tau0[i]),
-            "lower_azimuthal_share": float(np.mean(np.abs(np.asarray(d["friction_phi"].values)[lower]) / f))}
+            "lower_azimuthal_share": float(np.mean(np.abs(np.asarray(d["friction_phi"].values)[lower]) / f)),
+            "lower_utilisation": float(np.mean(f / _friction_limit(d)[lower])),
+            "lower_stuck_share": float(np.mean(np.asarray(d["stuck"].values)[lower] > 0))}
+
+
+def _friction_limit(d: xr.Dataset) -> np.ndarray:
+    """The largest friction force per link, min(k_fr N, friction_cap l0) (regions.axial_utilisation)."""
+    a = d.attrs
+    f_max = float(a["k_fr"]) * np.asarray(d["wall_force"].values, dtype=float)
+    cap = float(a.get("friction_cap", 0.0))
+    return np.minimum(f_max, cap * float(a["l0"])) if cap > 0 else f_max
+
+
+LOWER_KEYS = ("lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
 
 
 #: per member, measured in the bulk (torque.bulk_summary) and at the lower region (_lower_torque);
 #: NaN (has_bulk_member = 0) without a bulk
-BULK_KEYS = ("decay_ratio",) + torque.SUMMARY_KEYS + ("lower_torque_ratio", "lower_azimuthal_share")
+BULK_KEYS = ("decay_ratio",) + torque.SUMMARY_KEYS + ("lower_torque_ratio", "lower_azimuthal_share",
+                                                       "lower_utilisation", "lower_stuck_share")
 KEYS = ("fraction", "lower_length", "tip_length", "n_reversals", "torque_closure") + BULK_KEYS
 NAMES = {k: f"{k}_member" for k in KEYS}
 

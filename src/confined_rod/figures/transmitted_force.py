@@ -21,8 +21,7 @@ from ..quantities import label
 from ._common import need_scenes, per_scene, same_except, scene_coord
 
 OPTIONS: dict = {}
-REGION_KEYS = ("has_bulk", "tip_length", "bulk_length", "lower_length", "lower_q_mean", "lower_force_drop",
-               "bulk_decay_rate", "bulk_decay_rate_err", "decay_rate_model", "decay_rate_paper", "decay_ratio")
+REGION_KEYS = regions.SUMMARY_KEYS
 ENSEMBLES = True
 
 
