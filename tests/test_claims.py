@@ -344,8 +344,10 @@ def test_findings_group_claims_and_take_the_paper_claims_verdict():
     assert found == {"k2": ("refuted", ["a", "b", "c"]), "exp": ("inconclusive", ["d", "e"]),
                      "f": ("reproduced", ["f"]), "g": ("reproduced", ["g"])}
     ds = claims.to_dataset(vs, {"k2": "the factor 2"})
-    assert ds.attrs["n_findings"] == 4 and ds.attrs["n_findings_refuted"] == 1
-    assert ds.attrs["n_findings_inconclusive"] == 1
+    # g is a finding of our own only: counted apart from the findings about the paper's claims
+    assert ds.attrs["n_findings"] == 3 and ds.attrs["n_findings_refuted"] == 1 and ds.attrs["n_own_findings"] == 1
+    assert ds.attrs["n_findings_inconclusive"] == 1 and ds.attrs["n_own_claims"] == 2
     m = paper.Macros()
     paper.finding_macros(paper.verdicts_from_dataset(ds), {"k2": "the factor 2"}, m)
-    assert m.expected()["val@findings_refuted"] == "the factor 2" and m.expected()["val@n_findings_reproduced"] == "2"
+    assert m.expected()["val@findings_refuted"] == "the factor 2" and m.expected()["val@n_findings_reproduced"] == "1"
+    assert m.expected()["val@n_own_findings"] == "1" and m.expected()["val@own_findings_open"] == "none"

@@ -792,11 +792,13 @@ def _mean_sd(ds, key: str, i: int) -> tuple[float, float]:
 
 @measure
 def loading_path_torque(ev, spec, claim):
-    """The loading path sets the axial torque locked into the bulk helix: the bulk tau/tau_0 of
-    `variants` (ensemble mean +- s.d.) differ pairwise by more than twice the larger s.d.;
-    the note gives with it the pitch over the torque-free one, the wall force over R F^2/(4EI)
-    (measured, and predicted by the torque) and the bulk decay rate over the corrected law.
-    Value: the torque ratio of the last variant."""
+    """The loading path selects the bulk helix: the bulk pitch over the torque-free one and the
+    bulk tau/tau_0 of `variants` (ensemble means) differ pairwise by more than twice the larger
+    s.d., and the variant whose pitch is nearest the torque-free one (smallest |w/w0 - 1|) has the
+    largest wall force over R F^2/(4EI) and the largest decay rate (at a given force
+    K = R w^2 (F/c - EI w^2) peaks at the torque-free pitch; torque.py). The size of the torque does
+    not order them: the relation is double-valued for a torque against the handedness. The note
+    gives every number. Value: that variant's wall force over R F^2/(4EI)."""
     ds = ev.dataset(spec["figure"], claim)
     rows = []
     for v in spec["variants"]:
@@ -806,37 +808,60 @@ def loading_path_torque(ev, spec, claim):
                 f"no run of variant {v!r} has a bulk helix (L/R = {float(ds.attrs.get('L', 0)):g}): nothing to compare"
         rows.append((v, {k: _mean_sd(ds, k, i) for k in ("torque_friction_ratio", "pitch_ratio", "K_ratio",
                                                            "K_ratio_from_torque", "decay_ratio", "fraction")}))
-    apart = all(abs(a[1]["torque_friction_ratio"][0] - b[1]["torque_friction_ratio"][0])
-                > 2 * max(a[1]["torque_friction_ratio"][1], b[1]["torque_friction_ratio"][1])
-                for k, a in enumerate(rows) for b in rows[k + 1:])
+
+    def apart(key):
+        return all(abs(a[1][key][0] - b[1][key][0]) > 2 * max(a[1][key][1], b[1][key][1])
+                   for k, a in enumerate(rows) for b in rows[k + 1:])
+
+    nearest = min(rows, key=lambda r: abs(r[1]["pitch_ratio"][0] - 1.0))
+    top_K = max(rows, key=lambda r: r[1]["K_ratio"][0])
+    top_rate = max(rows, key=lambda r: r[1]["decay_ratio"][0])
+    holds = apart("pitch_ratio") and apart("torque_friction_ratio") and nearest is top_K and nearest is top_rate
     note = "; ".join(f"{v}: tau/tau_0 {d['torque_friction_ratio'][0]:.2f} +- {d['torque_friction_ratio'][1]:.2f}, "
-                     f"pitch {d['pitch_ratio'][0]:.2f} of torque-free, K {d['K_ratio'][0]:.2f} of R F^2/(4EI) "
-                     f"(from the torque {d['K_ratio_from_torque'][0]:.2f}), decay rate {d['decay_ratio'][0]:.2f} of "
-                     f"the corrected law, F(L)/F(0) {d['fraction'][0]:.2f}" for v, d in rows)
-    return rows[-1][1]["torque_friction_ratio"][0], apart, \
-        f"results/datasets/{spec['figure']}.nc:torque_friction_ratio_mean, pitch_ratio_mean, K_ratio_mean", note
+                     f"pitch {d['pitch_ratio'][0]:.2f} +- {d['pitch_ratio'][1]:.2f} of torque-free, K "
+                     f"{d['K_ratio'][0]:.2f} of R F^2/(4EI) (from pitch and torque {d['K_ratio_from_torque'][0]:.2f}), "
+                     f"decay rate {d['decay_ratio'][0]:.2f} +- {d['decay_ratio'][1]:.2f} of the corrected law, F(L)/F(0) "
+                     f"{d['fraction'][0]:.2f}" for v, d in rows)
+    note += (f"; pitch nearest the torque-free one: {nearest[0]}, largest K: {top_K[0]}, largest decay rate: "
+             f"{top_rate[0]}")
+    return nearest[1]["K_ratio"][0], holds, \
+        f"results/datasets/{spec['figure']}.nc:torque_friction_ratio_mean, pitch_ratio_mean, K_ratio_mean, " \
+        "decay_ratio_mean", note
 
 
 @measure
 def lower_region_torque(ev, spec, claim):
-    """What the lower region of `variant` does: the axial torque it receives from the bulk
-    (tau/tau_0 at its start, mean +- s.d.) must be shed before the free lower end, and its
-    friction is mostly azimuthal: holds if the received torque is nonzero by more than twice its
-    s.d. and the mean azimuthal share of the friction exceeds `min_share`. Value: the share."""
-    ds = ev.dataset(spec["figure"], claim)
-    i = _variant(ds, spec["variant"], claim)
-    if not ds["has_lower_member"].values[i].any():
-        return 0.0, None, f"results/datasets/{spec['figure']}.nc:has_lower_member", \
-            f"no run of variant {spec['variant']!r} has a bulk helix and a lower region: nothing to measure"
-    tq, tq_sd = _mean_sd(ds, "lower_torque_ratio", i)
-    share, share_sd = _mean_sd(ds, "lower_azimuthal_share", i)
-    q, _ = _mean_sd(ds, "lower_length", i)
-    used, stuck = _mean_sd(ds, "lower_utilisation", i)[0], _mean_sd(ds, "lower_stuck_share", i)[0]
-    holds = abs(tq) > 2 * tq_sd and share > float(spec["min_share"])
-    return share, holds, f"results/datasets/{spec['figure']}.nc:lower_torque_ratio_mean, lower_azimuthal_share_mean", \
-        (f"{spec['variant']}: the lower region ({q:.0f} R) receives tau/tau_0 = {tq:.2f} +- {tq_sd:.2f} from the bulk "
-         f"and sheds it to 0 at the free end; azimuthal share of its friction {share:.2f} +- {share_sd:.2f}, the "
-         f"friction at {used:.2f} of its limit, {100 * stuck:.0f} % of its links on the wall stuck")
+    """The lower region of `variant` in each of `figures`: the axial torque it receives from the
+    bulk (at its start; the torque vanishes at the free lower end), and the mean azimuthal share
+    |f_phi|/|f| of its friction. Its friction turns the rod more than it holds it axially where
+    the share exceeds `min_share` (1/sqrt 2: azimuthal above axial) and the received torque is
+    nonzero by more than twice its s.d. Holds if that is so at every length, refuted if at none,
+    inconclusive otherwise. Value: the share at the first figure's length."""
+    parts, results, files, value = [], [], [], None
+    for fig in spec["figures"]:
+        ds = ev.dataset(fig, claim)
+        i = _variant(ds, spec["variant"], claim)
+        files.append(f"results/datasets/{fig}.nc:lower_torque_mean, lower_azimuthal_share_mean")
+        if not ds["has_lower_member"].values[i].any():
+            parts.append(f"{fig}: no run of {spec['variant']!r} has a bulk and a lower region")
+            continue
+        tq, tq_sd = _mean_sd(ds, "lower_torque", i)
+        peak = _mean_sd(ds, "bulk_torque_max", i)[0]
+        share, share_sd = _mean_sd(ds, "lower_azimuthal_share", i)
+        used, stuck = _mean_sd(ds, "lower_utilisation", i)[0], _mean_sd(ds, "lower_stuck_share", i)[0]
+        ok = abs(tq) > 2 * tq_sd and share > float(spec["min_share"])
+        results.append(ok)
+        value = share if value is None else value
+        parts.append(f"{fig} (L/R = {float(ds.attrs.get('L', 0)):g}): lower region "
+                     f"{_mean_sd(ds, 'lower_length', i)[0]:.0f} R receives tau = {tq:.2g} +- {tq_sd:.2g} EI/R "
+                     f"(the bulk carries up to {peak:.2g}; {_mean_sd(ds, 'lower_torque_ratio', i)[0]:.2f} tau_0 at the "
+                     f"local force), azimuthal share of its friction {share:.2f} +- {share_sd:.2f}, friction at "
+                     f"{used:.2f} of its limit, {100 * stuck:.0f} % of its links on the wall stuck"
+                     + ("" if ok else " (not above the threshold)"))
+    if not results:
+        return 0.0, None, ", ".join(files), "; ".join(parts)
+    holds = True if all(results) else (False if not any(results) else None)
+    return value, holds, ", ".join(files), "; ".join(parts)
 
 
 @measure
@@ -1154,6 +1179,15 @@ def findings(verdicts: list[Verdict]) -> dict[str, tuple[str, list[str]]]:
     return out
 
 
+def split_findings(verdicts: list[Verdict]) -> tuple[dict, dict]:
+    """(the findings about the paper's claims, the findings of our own): a finding all of whose
+    claims are ours ("our finding" in where) is ours; counts and the abstract keep them apart."""
+    found = findings(verdicts)
+    mine = {v.id for v in verdicts if ours_only(v)}
+    own = {n: f for n, f in found.items() if set(f[1]) <= mine}
+    return {n: f for n, f in found.items() if n not in own}, own
+
+
 VARIABLE = {"claim": "statement"}   # the claim's text (the dimension is called claim)
 
 
@@ -1184,12 +1218,15 @@ def to_dataset(verdicts: list[Verdict], titles: Mapping[str, str] | None = None)
         data[name], data["has_" + name] = number(name, long)
     ds = xr.Dataset(data, coords={"claim": ("claim", np.array([v.id for v in verdicts], dtype=object),
                                             {"long_name": "claim id (paper/claims.yaml)", "units": "1"})})
+    paper_claims = [v for v in verdicts if not ours_only(v)]
     for verdict in VERDICTS:
-        ds.attrs["n_" + verdict.replace(" ", "_")] = sum(v.verdict == verdict for v in verdicts)
-    found = findings(verdicts)
+        ds.attrs["n_" + verdict.replace(" ", "_")] = sum(v.verdict == verdict for v in paper_claims)
+    ds.attrs["n_own_claims"] = len(verdicts) - len(paper_claims)
+    found, own = split_findings(verdicts)
     ds.attrs["n_findings"] = len(found)
     for verdict in VERDICTS:
         ds.attrs["n_findings_" + verdict.replace(" ", "_")] = sum(f[0] == verdict for f in found.values())
+    ds.attrs["n_own_findings"] = len(own)
     ds.attrs["finding_titles"] = json.dumps(dict(titles or {}))
     return finalize(ds, "Claims of Svensek & Podgornik, evaluated on this build's datasets", {})
 

@@ -155,6 +155,14 @@ def helix_with_torque() -> Derivation:
     F_tau = sp.solve(sp.Eq(c * (EI * R * wc**4 + K_tau) + R * wc**2 * (-F), 0), F)[0]   # F_z = -|F_z|
     ok = _zero(K_tau - (EI * R**2 * wc**4 - wc * tau) / R) and _zero(F_tau - c * (2 * EI * wc**2 - tau / (R**2 * wc)))
     ok = ok and _zero(F_tau.subs(tau, 0) - 2 * EI * wc**2 * c)
+    # at a given force: eliminate tau; to lowest order in R w the wall force peaks at w^2 = F/(2EI)
+    tau_F = sp.solve(sp.Eq(F_tau, F), tau)[0]
+    K_F = sp.simplify(K_tau.subs(tau, tau_F))
+    ok = ok and _zero(K_F - R * wc**2 * (F / c - EI * wc**2))
+    x = sp.symbols("x", positive=True)                        # x = w^2, lowest order (c = 1)
+    K_low = (R * x * (F - EI * x))
+    peak = sp.solve(sp.diff(K_low, x), x)
+    ok = ok and len(peak) == 1 and _zero(peak[0] - F / (2 * EI)) and _zero(K_low.subs(x, peak[0]) - R * F**2 / (4 * EI))
     for vals in ({R: 0.9, EI: 1.0, wc: 0.3, tau: 0.004}, {R: 1.0, EI: 2.0, wc: 0.1, tau: -0.01}):
         num = {str(k): float(v) for k, v in vals.items()}
         ok = ok and abs(float(K_tau.subs(vals)) - float(torque.helix_wall_force(num["R"], num["w"], num["tau"],
@@ -164,7 +172,9 @@ def helix_with_torque() -> Derivation:
     return Derivation(f"K = {sp.sstr(sp.simplify(K_tau))}, |F_z| = {sp.sstr(sp.simplify(F_tau))}",
                       "(not in the paper: its helix is torque-free, tau = 0)", ok,
                       "axial torque M_z + R F_phi = tau with F_phi = -K/w, then Eq. (equilibrium); tau = 0 gives "
-                      "the torque-free helix; equal to confined_rod.torque's forms at two points")
+                      "the torque-free helix; at a given force K = R w^2 (F/c - EI w^2), to lowest order largest, "
+                      "R F^2/(4EI), at the torque-free w^2 = F/(2EI); equal to confined_rod.torque's forms at two "
+                      "points")
 
 
 def force_decay(paper_K: bool = False) -> sp.Expr:

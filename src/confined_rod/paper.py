@@ -467,24 +467,34 @@ def claim_macros(verdicts: Iterable[Verdict], macros: Macros) -> None:
         macros.add("ours", v.id, v.ours)
         macros.add("paper", v.id, v.paper)
         macros.add("verdict", v.id, v.verdict)
-    macros.add("val", "n_claims", str(len(verdicts)))
+    from .claims import ours_only
+
+    # the paper's claims are counted apart from the findings of our own (where: "our finding")
+    paper_claims = [v for v in verdicts if not ours_only(v)]
+    macros.add("val", "n_claims", str(len(paper_claims)))
+    macros.add("val", "n_own_claims", str(len(verdicts) - len(paper_claims)))
     for verdict in VERDICTS:
-        macros.add("val", "n_" + verdict.replace(" ", "_"), str(sum(v.verdict == verdict for v in verdicts)))
+        macros.add("val", "n_" + verdict.replace(" ", "_"), str(sum(v.verdict == verdict for v in paper_claims)))
 
 
 def finding_macros(verdicts: Iterable[Verdict], titles: Mapping[str, str], macros: Macros) -> None:
-    """The independent findings (claims that test one discrepancy share one): their number by
-    verdict (\\val{n_findings_refuted}, ...) and the titled ones by verdict as text
-    (\\val{findings_refuted}: the sentences of the abstract come from the verdicts)."""
-    from .claims import findings
+    """The independent findings about the paper's claims (claims that test one discrepancy share
+    one): their number by verdict (\\val{n_findings_refuted}, ...) and the titled ones by verdict
+    as text (\\val{findings_refuted}: the sentences of the abstract come from the verdicts); the
+    findings of our own apart (\\val{n_own_findings}, ..._reproduced, \\val{own_findings_open})."""
+    from .claims import split_findings
 
-    found = findings(list(verdicts))
+    found, own = split_findings(list(verdicts))
     macros.add("val", "n_findings", str(len(found)))
     for verdict in VERDICTS:
         key = verdict.replace(" ", "_")
         macros.add("val", "n_findings_" + key, str(sum(f[0] == verdict for f in found.values())))
         named = [titles[n] for n, (v, _) in found.items() if v == verdict and n in titles]
         macros.add("val", "findings_" + key, "; ".join(named) if named else "none")
+    macros.add("val", "n_own_findings", str(len(own)))
+    macros.add("val", "n_own_findings_reproduced", str(sum(f[0] == "reproduced" for f in own.values())))
+    macros.add("val", "own_findings_open", "; ".join(titles.get(n, n) for n, f in own.items()
+                                                     if f[0] != "reproduced") or "none")
 
 
 SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
@@ -496,11 +506,16 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_ratio", "K_ratio", "K_ratio_from_torque",
            "lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
     for i, v in enumerate(ds.variant.values):
-        for key in ("lower_length", "tip_length", "n_reversals") + two:
+        for key in ("lower_length", "tip_length", "n_reversals", "lower_torque", "bulk_torque_max") + two:
             if f"{key}_mean" not in ds:
                 continue
             value = [(float(ds[f"{key}_mean"].values[i]), float(ds[f"{key}_std"].values[i]))]
             macros.add_list("val", f"{name}.{v}.{key}", value, ".2f" if key in two else ".3g")
+    for key in ("formation_settled_quarter", "formation_settled_end"):
+        if key in ds.attrs:
+            macros.add("val", f"{name}.{key}", f"{float(ds.attrs[key]):.2g}")
+    if "time" in ds.coords and "formation_F_abs" in ds:
+        macros.add("val", f"{name}.formation_final", f"{float(ds['time'].values[-1]):.2g}")
     if "torque_closure_member" in ds:
         free = (ds["variant_ends"].values == "free")[:, None] & (ds["has_member"].values == 1)
         worst = float(ds["torque_closure_member"].values[free].max()) if free.any() else 0.0

@@ -375,6 +375,14 @@ _Q = SCENE_PARAMETERS + [
            "wall in static friction"))
       for stat, what in (("member", "each member; 0 where has_bulk_member is 0"),
                          ("mean", "ensemble mean"), ("std", "ensemble standard deviation"))],
+    *[Quantity(f"{key}_{stat}", sym if stat == "member" else (rf"\langle {sym}\rangle" if stat == "mean" else r"\sigma"),
+               f"{text} ({what})", "EI R-1")
+      for key, sym, text in (
+          ("lower_torque", r"\tau(s_l)\,\mathrm{sgn}\,w", "axial torque at the start of the lower region, signed "
+           "along the bulk's handedness"),
+          ("bulk_torque_max", r"\max_{bulk}|\tau|", "largest axial torque carried in the bulk"))
+      for stat, what in (("member", "each member; 0 where has_lower_member is 0"),
+                         ("mean", "ensemble mean"), ("std", "ensemble standard deviation"))],
     Quantity("torque_friction", r"\tau", "axial torque carried through the rod at the link centre, from the wall "
              "friction above it (-Gamma), signed along the bulk's handedness", "EI R-1"),
     Quantity("torque_helix", r"\tau_{helix}", "axial torque of the local helix, rho^2 w (2EI w^2 - |F_z|/c), signed "

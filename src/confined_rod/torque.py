@@ -31,10 +31,16 @@ they agree the budget closes locally, and tau says how far the helix is from tor
 why its pitch and wall force, and with them the decay rate of the force, differ from the
 simple model's.
 
+Eliminating tau, K = R w^2 (F/c - EI w^2): at a given force the wall force is largest, R F^2/(4EI)
+to lowest order, at w^2 = F/(2EI), the torque-free helix; a torque of either sign moves the pitch
+off that optimum and lowers the wall force, and with it the decay rate of the force.
+
 Scale: tau_0 = EI R^2 w0^3 with w0 = sqrt(F/(2EI)), the bending torque of a torque-free helix
-at the local force; tau sign(w)/tau_0 is 0 for a torque-free helix, about 1 if all of the
-bending torque were carried (no shear), and negative when the torque opposes the handedness
-(the helix is wound up against its own sense: smaller pitch rate, smaller wall force).
+at the local force; tau sign(w)/tau_0 is 0 for a torque-free helix, (2/c)^(3/2) ~ 2.8 for a helix
+that carries all of its bending torque (no shear force: F = EI w^2 c, and K = 0 to this order),
+and negative when the torque opposes the handedness (the helix wound against its own sense). The
+relation between F and w is double-valued for tau sign(w) < 0: the torque does not fix the pitch;
+the loading path selects the branch.
 
 Post-processing: reads datasets only and never imports the simulator; every function works
 on plain arrays (tests/test_torque.py), links ordered from the loaded end (s = 0).

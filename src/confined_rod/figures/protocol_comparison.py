@@ -125,6 +125,8 @@ def _lower_torque(d: xr.Dataset, a: regions.Analysis, b: torque.Budget) -> dict[
     i = int(np.argmax(reg == 2))
     f = np.asarray(d["friction_force"].values, dtype=float)[lower]
     return {"lower_torque_ratio": sgn * float(b.tau_friction[i] / b.tau0[i]),
+            "lower_torque": sgn * float(b.tau_friction[i]),
+            "bulk_torque_max": float(np.max(np.abs(b.tau_friction[reg == 1]))),
             "lower_azimuthal_share": float(np.mean(np.abs(np.asarray(d["friction_phi"].values)[lower]) / f)),
             "lower_utilisation": float(np.mean(f / _friction_limit(d)[lower])),
             "lower_stuck_share": float(np.mean(np.asarray(d["stuck"].values)[lower] > 0))}
@@ -138,13 +140,12 @@ def _friction_limit(d: xr.Dataset) -> np.ndarray:
     return np.minimum(f_max, cap * float(a["l0"])) if cap > 0 else f_max
 
 
-LOWER_KEYS = ("lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
 
-
+LOWER_KEYS = ("lower_torque_ratio", "lower_torque", "bulk_torque_max", "lower_azimuthal_share", "lower_utilisation",
+              "lower_stuck_share")
 #: per member, measured in the bulk (torque.bulk_summary) and at the lower region (_lower_torque);
 #: NaN (has_bulk_member = 0) without a bulk
-BULK_KEYS = ("decay_ratio",) + torque.SUMMARY_KEYS + ("lower_torque_ratio", "lower_azimuthal_share",
-                                                       "lower_utilisation", "lower_stuck_share")
+BULK_KEYS = ("decay_ratio",) + torque.SUMMARY_KEYS + LOWER_KEYS
 KEYS = ("fraction", "lower_length", "tip_length", "n_reversals", "torque_closure") + BULK_KEYS
 NAMES = {k: f"{k}_member" for k in KEYS}
 
@@ -232,10 +233,23 @@ def _add_profiles(ds: xr.Dataset, fig_cfg, groups, sims) -> xr.Dataset:
                             s_link=variable(("link",), np.asarray(first[0]["s_link"].values), "s_link"))
 
 
+SETTLED = 0.05  # a profile has formed where it stays within 5 % of its final value
+
+
+def settle_time(t: np.ndarray, F: np.ndarray, rel: float) -> float:
+    """The first snapshot time from which |F| (snapshot, position) stays within ``rel`` of
+    its final value at every position."""
+    dev = np.max(np.abs(F / F[-1] - 1.0), axis=1)
+    late = np.flatnonzero(dev > rel)
+    return float(t[late[-1] + 1]) if late.size else float(t[0])
+
+
 def _add_formation(ds: xr.Dataset, groups, sims) -> xr.Dataset:
     """|F_z| along s at the stored snapshot times of the first seed of the first variant that
     stores snapshots (scene parameters snapshot_interval, snapshot_growth): how the equilibrium
-    and its lower region form during the run."""
+    and its lower region form during the run; attributes formation_settled_quarter and
+    formation_settled_end: the times from which |F_z| over the upper quarter of the rod, and at
+    its lower end, stays within SETTLED of its final value."""
     for base, members in groups.items():
         d = sims[members[0]]
         if "snap_F_z" in d:
@@ -245,6 +259,10 @@ def _add_formation(ds: xr.Dataset, groups, sims) -> xr.Dataset:
                                   formation_s=variable(("formation_joint",), np.asarray(d["s"].values), "s"))
             ds.attrs["formation_variant"] = base
             ds.attrs["formation_seed"] = int(d.attrs["seed"])
+            t, F = ds["time"].values, ds["formation_F_abs"].values
+            s = ds["formation_s"].values
+            for where, sel in (("quarter", s <= 0.25 * s[-1]), ("end", s >= s[-1])):
+                ds.attrs[f"formation_settled_{where}"] = settle_time(t, F[:, sel], SETTLED)
             return ds
     return ds
 
@@ -286,7 +304,7 @@ PROFILE_COLORS = ("black", "tab:red", "tab:blue", "tab:green")
 def plot(ds: xr.Dataset):
     n = ds.sizes["variant"]
     top = 0.9 + 0.3 * n
-    fig = P.plt.figure(figsize=(7.0, min(top + 2.3, P.MAX_HEIGHT_IN)), label=ds.attrs["title"])
+    fig = P.plt.figure(figsize=(6.85, min(top + 2.3, P.MAX_HEIGHT_IN)), label=ds.attrs["title"])
     gs = fig.add_gridspec(2, 1, height_ratios=[top, 2.3], hspace=0.5)
     row1 = gs[0].subgridspec(1, len(PANELS), wspace=0.12)
     axes = [fig.add_subplot(row1[0, 0])]
@@ -335,7 +353,9 @@ def _plot_variants(ds: xr.Dataset, axes) -> None:
             ax.tick_params(labelleft=False)
     axes[0].set_yticks(y)
     axes[0].set_yticklabels([str(v) for v in ds["variant_label"].values], fontsize=7.5)
-    axes[0].legend(loc="lower right", fontsize=7, handletextpad=0.2)
+    # above the variant labels, clear of the data
+    axes[0].figure.legend(*axes[0].get_legend_handles_labels(), loc="upper left", bbox_to_anchor=(0.0, 1.0),
+                          fontsize=7, handletextpad=0.2, frameon=False)
 
 
 def _label(ds: xr.Dataset, base: str) -> str:
@@ -365,15 +385,16 @@ def _plot_profiles(ds: xr.Dataset, ax_f, ax_t) -> None:
     P.plain_log_ticks(ax_f.yaxis)
     ax_f.set_xlabel(label("s"), fontsize=8)
     ax_f.set_ylabel(r"$|F_z(s)|/|F_z(0)|$", fontsize=8)
-    ax_f.legend(fontsize=7, loc="lower left", handlelength=1.4)
+    ax_f.set_ylim(top=3.0)      # room above the profiles (all start at 1) for the legend
+    ax_f.legend(fontsize=7, loc="upper right", handlelength=1.4, framealpha=0.9)
     ax_t.axhline(0.0, color="tab:blue", ls="--", lw=1.0)
-    ax_t.plot([], [], color="0.3", lw=1.2, label=r"$-\Gamma(s)$, from friction")
-    ax_t.plot([], [], "o", ms=2.5, mfc="none", mec="0.3", label="from local helix")
+    ax_t.plot([], [], color="0.3", lw=1.2, label=r"friction, $-\Gamma(s)$")
+    ax_t.plot([], [], "o", ms=2.5, mfc="none", mec="0.3", label="local helix")
     ax_t.set_xlabel(label("s"), fontsize=8)
     ax_t.set_ylabel(r"axial torque $\tau\,\mathrm{sgn}\,w\,/\,\tau_0(s)$", fontsize=8)
     lo, hi = ax_t.get_ylim()
-    ax_t.set_ylim(lo, hi + 0.45 * (hi - lo))
-    ax_t.legend(fontsize=7, loc="upper center", handlelength=1.4)
+    ax_t.set_ylim(lo, hi + 0.3 * (hi - lo))
+    ax_t.legend(fontsize=7, loc="upper center", handlelength=1.0, ncol=2, columnspacing=0.5, handletextpad=0.4)
 
 
 def _plot_formation(ds: xr.Dataset, ax) -> None:
@@ -393,5 +414,6 @@ def _plot_formation(ds: xr.Dataset, ax) -> None:
     P.plain_log_ticks(ax.yaxis)
     ax.set_xlabel(label("s"), fontsize=8)
     ax.set_ylabel(r"$|F_z(s)|/|F_z(0)|$ while forming", fontsize=8)
-    ax.legend(fontsize=7, loc="upper right", handlelength=1.2, framealpha=0.9,
-              title=f"{_label(ds, ds.attrs['formation_variant'])}, seed {ds.attrs['formation_seed']}", title_fontsize=7)
+    ax.set_ylim(top=6.0)        # room above the profiles (all start at 1) for the legend
+    ax.legend(fontsize=7, loc="upper right", handlelength=1.0, framealpha=0.9,
+              title=f"seed {ds.attrs['formation_seed']}, " + r"$t$ in $\beta_{ph}R^4/EI$", title_fontsize=7)
