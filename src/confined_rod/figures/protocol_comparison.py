@@ -353,9 +353,8 @@ def _plot_variants(ds: xr.Dataset, axes) -> None:
             ax.tick_params(labelleft=False)
     axes[0].set_yticks(y)
     axes[0].set_yticklabels([str(v) for v in ds["variant_label"].values], fontsize=7.5)
-    # above the variant labels, clear of the data
-    axes[0].figure.legend(*axes[0].get_legend_handles_labels(), loc="upper left", bbox_to_anchor=(0.0, 1.0),
-                          fontsize=7, handletextpad=0.2, frameon=False)
+    # in the decay-rate panel, where matplotlib finds the place with the least data
+    axes[3].legend(*axes[0].get_legend_handles_labels(), loc="best", fontsize=7, handletextpad=0.2, framealpha=0.9)
 
 
 def _label(ds: xr.Dataset, base: str) -> str:
