@@ -351,3 +351,57 @@ def test_findings_group_claims_and_take_the_paper_claims_verdict():
     paper.finding_macros(paper.verdicts_from_dataset(ds), {"k2": "the factor 2"}, m)
     assert m.expected()["val@findings_refuted"] == "the factor 2" and m.expected()["val@n_findings_reproduced"] == "1"
     assert m.expected()["val@n_own_findings"] == "1" and m.expected()["val@own_findings_open"] == "none"
+
+
+def _protocols(variants, **per_variant):
+    """A protocol-comparison dataset with one member per variant: per_variant[key] = values
+    (one per variant) for the *_member, *_mean and *_std (5 % of the mean) variables the torque claims read."""
+    n = len(variants)
+    data = {"has_member": (("variant", "member"), np.ones((n, 1), dtype=np.int8)),
+            "has_bulk_member": (("variant", "member"), np.ones((n, 1), dtype=np.int8)),
+            "has_lower_member": (("variant", "member"), np.ones((n, 1), dtype=np.int8)),
+            "converged_member": (("variant", "member"), np.ones((n, 1), dtype=np.int8)),
+            "variant_ends": (("variant",), np.array(["free"] * n, dtype=object))}
+    for key, values in per_variant.items():
+        v = np.asarray(values, dtype=float)
+        data[f"{key}_member"] = (("variant", "member"), v[:, None])
+        data[f"{key}_mean"] = (("variant",), v)
+        data[f"{key}_std"] = (("variant",), 0.05 * np.abs(v))
+    return xr.Dataset(data, coords={"variant": np.array(variants, dtype=object)}, attrs={"L": 320.0})
+
+
+def test_torque_budget_claim_leaves_out_runs_not_at_equilibrium():
+    ds = _protocols(["a", "b"], torque_closure=[1e-6, 0.2], torque_friction_ratio=[0.5, -0.5],
+                    torque_helix_ratio=[0.51, -0.5])
+    spec = {"figures": ["p"], "max_closure": 1e-4, "tol": 0.05}
+    value, holds, _, _ = claims.MEASURES["torque_budget_closes"](claims.Evidence({"p": ds}), spec, "x")
+    assert holds is False                                   # member b: the budget does not close
+    ds["converged_member"].values[1, 0] = 0
+    value, holds, _, note = claims.MEASURES["torque_budget_closes"](claims.Evidence({"p": ds}), spec, "x")
+    assert holds is True and "not at equilibrium left out" in note and value == pytest.approx(0.01 / 1.5)
+
+
+def test_loading_path_claim_orders_by_pitch_not_by_the_size_of_the_torque():
+    # b carries the smallest torque but sits on the small-pitch branch: a is nearest the torque-free pitch
+    common = dict(torque_friction_ratio=[0.54, -0.51, 2.95], K_ratio_from_torque=[1.0, 0.13, 0.39],
+                  fraction=[0.1, 0.24, 0.72])
+    ds = _protocols(["a", "b", "c"], pitch_ratio=[1.12, 0.27, 1.45], K_ratio=[0.98, 0.18, 0.38],
+                    decay_ratio=[0.96, 0.15, 0.16], **common)
+    spec = {"figure": "p", "variants": ["a", "b", "c"]}
+    value, holds, _, note = claims.MEASURES["loading_path_torque"](claims.Evidence({"p": ds}), spec, "x")
+    assert holds is True and value == pytest.approx(0.98) and "pitch nearest the torque-free one: a" in note
+    ds = _protocols(["a", "b", "c"], pitch_ratio=[1.12, 0.27, 1.45], K_ratio=[0.3, 0.9, 0.38],
+                    decay_ratio=[0.96, 0.15, 0.16], **common)
+    assert claims.MEASURES["loading_path_torque"](claims.Evidence({"p": ds}), spec, "x")[1] is False
+
+
+def test_lower_region_claim_is_inconclusive_when_the_lengths_disagree():
+    def fig(share):
+        return _protocols(["straight"], lower_torque=[0.002], bulk_torque_max=[0.003], lower_torque_ratio=[1.5],
+                          lower_azimuthal_share=[share], lower_utilisation=[0.9], lower_stuck_share=[0.8],
+                          lower_length=[100.0])
+    spec = {"figures": ["p320", "p640"], "variant": "straight", "min_share": 0.7071}
+    run = claims.MEASURES["lower_region_torque"]
+    assert run(claims.Evidence({"p320": fig(0.76), "p640": fig(0.8)}), spec, "x")[1] is True
+    assert run(claims.Evidence({"p320": fig(0.76), "p640": fig(0.67)}), spec, "x")[1] is None
+    assert run(claims.Evidence({"p320": fig(0.6), "p640": fig(0.67)}), spec, "x")[1] is False

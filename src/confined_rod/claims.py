@@ -820,8 +820,8 @@ def loading_path_torque(ev, spec, claim):
     note = "; ".join(f"{v}: tau/tau_0 {d['torque_friction_ratio'][0]:.2f} +- {d['torque_friction_ratio'][1]:.2f}, "
                      f"pitch {d['pitch_ratio'][0]:.2f} +- {d['pitch_ratio'][1]:.2f} of torque-free, K "
                      f"{d['K_ratio'][0]:.2f} of R F^2/(4EI) (from pitch and torque {d['K_ratio_from_torque'][0]:.2f}), "
-                     f"decay rate {d['decay_ratio'][0]:.2f} +- {d['decay_ratio'][1]:.2f} of the corrected law, F(L)/F(0) "
-                     f"{d['fraction'][0]:.2f}" for v, d in rows)
+                     f"decay rate {d['decay_ratio'][0]:.2f} +- {d['decay_ratio'][1]:.2f} of the corrected law, "
+                     f"F(L)/F(0) {d['fraction'][0]:.2f}" for v, d in rows)
     note += (f"; pitch nearest the torque-free one: {nearest[0]}, largest K: {top_K[0]}, largest decay rate: "
              f"{top_rate[0]}")
     return nearest[1]["K_ratio"][0], holds, \

@@ -36,6 +36,13 @@ _POS_OR_DEFAULT = {"type": ["number", "null"], "exclusiveMinimum": 0}  # null: t
 _NONNEG_OR_DEFAULT = {"type": ["number", "null"], "minimum": 0}
 
 
+def _member_stats(key: str, symbol: str, text: str, units: str, member: str) -> list["Quantity"]:
+    """<key>_member, <key>_mean, <key>_std of an ensemble quantity (member: what a member's value is)."""
+    return [Quantity(f"{key}_member", symbol, f"{text} ({member})", units),
+            Quantity(f"{key}_mean", rf"\langle {symbol}\rangle", f"{text} (ensemble mean)", units),
+            Quantity(f"{key}_std", r"\sigma", f"{text} (ensemble standard deviation)", units)]
+
+
 def _param(name, symbol, long_name, units, schema):
     return Quantity(name, symbol, long_name, units, schema)
 
@@ -352,37 +359,31 @@ _Q = SCENE_PARAMETERS + [
     Quantity("decay_ratio_std", r"\sigma", "ensemble standard deviation of the bulk decay rate over the corrected "
              "law", "1"),
     # the axial torque budget (torque.py), per member in the bulk and along s
-    *[Quantity(f"{key}_{stat}", sym if stat == "member" else (rf"\langle {sym}\rangle" if stat == "mean" else r"\sigma"),
-               f"{text} ({what if key != 'torque_closure' else what.split(';')[0]})", "1")
-      for key, sym, text in (
-          ("torque_closure", r"|\Gamma(L)|/\sum|\rho f_\varphi|", "axial torque of the wall friction on the whole "
-           "rod over the sum of its magnitudes: 0 when the budget closes (both ends free to turn)"),
-          ("torque_friction_ratio", r"\tau\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque the "
-           "friction left in the rod, signed along the handedness, over EI R^2 w0^3, w0 = sqrt(|F_z|/(2EI))"),
-          ("torque_helix_ratio", r"\tau_{helix}\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque "
-           "the local helix carries, rho^2 w (2EI w^2 - |F_z|/c), over EI R^2 w0^3"),
-          ("pitch_ratio", "|w|/w_0", "median over the bulk of the pitch rate over the torque-free sqrt(|F_z|/(2EI))"),
-          ("K_ratio", r"K/K_{model}", "bulk wall force per length over the corrected simple model's R F_z^2/(4EI)"),
-          ("K_ratio_from_torque", r"K_\tau/K_{model}", "bulk wall force per length predicted by the local pitch and "
-           "the friction's torque, (EI rho^2 w^4 - w tau)/rho, over R F_z^2/(4EI)"),
-          ("lower_torque_ratio", r"\tau(s_l)\,\mathrm{sgn}\,w/\tau_0", "axial torque the lower region receives "
-           "from the bulk, at its start, signed along the bulk's handedness, over EI R^2 w0^3"),
-          ("lower_azimuthal_share", r"\langle|f_\varphi|/|f|\rangle_{lower}", "mean azimuthal share of the friction "
-           "on the lower region's links on the wall"),
-          ("lower_utilisation", r"\langle|f|/f_{max}\rangle_{lower}", "mean friction utilisation |f|/min(k_fr N, "
-           "friction_cap l0) on the lower region's links on the wall"),
-          ("lower_stuck_share", r"\langle\mathrm{stuck}\rangle_{lower}", "share of the lower region's links on the "
-           "wall in static friction"))
-      for stat, what in (("member", "each member; 0 where has_bulk_member is 0"),
-                         ("mean", "ensemble mean"), ("std", "ensemble standard deviation"))],
-    *[Quantity(f"{key}_{stat}", sym if stat == "member" else (rf"\langle {sym}\rangle" if stat == "mean" else r"\sigma"),
-               f"{text} ({what})", "EI R-1")
-      for key, sym, text in (
-          ("lower_torque", r"\tau(s_l)\,\mathrm{sgn}\,w", "axial torque at the start of the lower region, signed "
-           "along the bulk's handedness"),
-          ("bulk_torque_max", r"\max_{bulk}|\tau|", "largest axial torque carried in the bulk"))
-      for stat, what in (("member", "each member; 0 where has_lower_member is 0"),
-                         ("mean", "ensemble mean"), ("std", "ensemble standard deviation"))],
+    *_member_stats("torque_closure", r"|\Gamma(L)|/\sum|\rho f_\varphi|", "axial torque of the wall friction on "
+                   "the whole rod over the sum of its magnitudes: 0 when the budget closes (both ends free to turn)",
+                   "1", "each member"),
+    *[q for key, sym, text in (
+        ("torque_friction_ratio", r"\tau\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque the "
+         "friction left in the rod, signed along the handedness, over EI R^2 w0^3, w0 = sqrt(|F_z|/(2EI))"),
+        ("torque_helix_ratio", r"\tau_{helix}\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque "
+         "the local helix carries, rho^2 w (2EI w^2 - |F_z|/c), over EI R^2 w0^3"),
+        ("pitch_ratio", "|w|/w_0", "median over the bulk of the pitch rate over the torque-free sqrt(|F_z|/(2EI))"),
+        ("K_ratio", r"K/K_{model}", "bulk wall force per length over the corrected simple model's R F_z^2/(4EI)"),
+        ("K_ratio_from_torque", r"K_\tau/K_{model}", "bulk wall force per length predicted by the local pitch and "
+         "the friction's torque, (EI rho^2 w^4 - w tau)/rho, over R F_z^2/(4EI)"),
+        ("lower_torque_ratio", r"\tau(s_l)\,\mathrm{sgn}\,w/\tau_0", "axial torque the lower region receives "
+         "from the bulk, at its start, signed along the bulk's handedness, over EI R^2 w0^3"),
+        ("lower_azimuthal_share", r"\langle|f_\varphi|/|f|\rangle_{lower}", "mean azimuthal share of the friction "
+         "on the lower region's links on the wall"),
+        ("lower_utilisation", r"\langle|f|/f_{max}\rangle_{lower}", "mean friction utilisation |f|/min(k_fr N, "
+         "friction_cap l0) on the lower region's links on the wall"),
+        ("lower_stuck_share", r"\langle\mathrm{stuck}\rangle_{lower}", "share of the lower region's links on the "
+         "wall in static friction"))
+      for q in _member_stats(key, sym, text, "1", "each member; 0 where has_bulk_member is 0")],
+    *_member_stats("lower_torque", r"\tau(s_l)\,\mathrm{sgn}\,w", "axial torque at the start of the lower region, "
+                   "signed along the bulk's handedness", "EI R-1", "each member; 0 where has_lower_member is 0"),
+    *_member_stats("bulk_torque_max", r"\max_{bulk}|\tau|", "largest axial torque carried in the bulk", "EI R-1",
+                   "each member; 0 where has_lower_member is 0"),
     Quantity("torque_friction", r"\tau", "axial torque carried through the rod at the link centre, from the wall "
              "friction above it (-Gamma), signed along the bulk's handedness", "EI R-1"),
     Quantity("torque_helix", r"\tau_{helix}", "axial torque of the local helix, rho^2 w (2EI w^2 - |F_z|/c), signed "

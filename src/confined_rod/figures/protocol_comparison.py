@@ -253,8 +253,8 @@ def _add_formation(ds: xr.Dataset, groups, sims) -> xr.Dataset:
     for base, members in groups.items():
         d = sims[members[0]]
         if "snap_F_z" in d:
-            ds = ds.assign({"formation_F_abs": variable(("time", "formation_joint"),
-                                                        np.abs(np.asarray(d["snap_F_z"].values, dtype=float)), "F_abs")})
+            F_abs = np.abs(np.asarray(d["snap_F_z"].values, dtype=float))
+            ds = ds.assign({"formation_F_abs": variable(("time", "formation_joint"), F_abs, "F_abs")})
             ds = ds.assign_coords(time=variable(("time",), np.asarray(d["time"].values, dtype=float), "time"),
                                   formation_s=variable(("formation_joint",), np.asarray(d["s"].values), "s"))
             ds.attrs["formation_variant"] = base
@@ -408,7 +408,8 @@ def _plot_formation(ds: xr.Dataset, ax) -> None:
         frac = (np.log10(t[k]) - lo) / max(hi - lo, 1e-12)
         last = k == keep[-1]
         ax.plot(s, F[k] / F[k][0], color="black" if last else cmap(0.9 * frac), lw=1.5 if last else 0.9,
-                label=(("final, " if last else "") + f"$t = {P.sci(t[k])}$") if k in marked else None, zorder=3 if last else 2)
+                label=(("final, " if last else "") + f"$t = {P.sci(t[k])}$") if k in marked else None,
+                zorder=3 if last else 2)
     ax.set_yscale("log")
     P.plain_log_ticks(ax.yaxis)
     ax.set_xlabel(label("s"), fontsize=8)
