@@ -85,15 +85,18 @@ class DecayRate:
     n: int              # joints in the fit
 
 
+def friction_limit(wall_force, k_fr: float, friction_cap: float, l0: float) -> np.ndarray:
+    """The largest friction force per link, f_max = min(k_fr N, friction_cap l0) (no cap if 0)."""
+    f_max = k_fr * np.asarray(wall_force, dtype=float)
+    return np.minimum(f_max, friction_cap * l0) if friction_cap > 0 else f_max
+
+
 def axial_utilisation(contact, wall_force, friction_z, k_fr: float, friction_cap: float, l0: float) -> np.ndarray:
     """q = f_z / f_max per link (0 off the wall): positive where friction carries axial load
     away from the loaded end (reduces |F_z| along s)."""
     contact = np.asarray(contact) > 0
-    N = np.asarray(wall_force, dtype=float)
-    f_max = k_fr * N
-    if friction_cap > 0:
-        f_max = np.minimum(f_max, friction_cap * l0)
-    q = np.zeros(N.shape)
+    f_max = friction_limit(wall_force, k_fr, friction_cap, l0)
+    q = np.zeros(f_max.shape)
     ok = contact & (f_max > 0)
     q[ok] = np.asarray(friction_z, dtype=float)[ok] / f_max[ok]
     return q

@@ -132,6 +132,13 @@ def budget(sim: xr.Dataset) -> Budget:
                   closure=abs(float(tq.sum())) / total if total > 0 else 0.0)
 
 
+def handedness(b: Budget, where: np.ndarray) -> float:
+    """+1 or -1: the sign of the median pitch rate of the links on the helix within ``where``
+    (a boolean mask over links), +1 if there are none."""
+    w = b.w[np.asarray(where, dtype=bool) & b.on_helix]
+    return float(np.sign(np.median(w))) if w.size and np.median(w) != 0 else 1.0
+
+
 def bulk_summary(sim: xr.Dataset, bulk: np.ndarray, b: Budget | None = None) -> dict[str, float]:
     """Medians over the links of the bulk (a boolean mask over links) that are on the helix:
     the carried torque from the friction and from the helix over tau_0 (signed with the

@@ -113,32 +113,25 @@ def _member_values(d: xr.Dataset) -> dict[str, float]:
 
 
 def _lower_torque(d: xr.Dataset, a: regions.Analysis, b: torque.Budget) -> dict[str, float]:
-    """What the lower region does with the axial torque: the torque over tau_0 it receives
-    from the bulk (at its start, signed along the bulk's handedness), and the azimuthal share
-    |f_phi|/|f| of the friction on its links on the wall (1: friction that only turns)."""
+    """What the lower region does with the axial torque: the torque it receives from the bulk
+    (at its start, signed along the bulk's handedness; absolute and over tau_0), the largest
+    torque in the bulk, and on its links on the wall the azimuthal share |f_phi|/|f| of the
+    friction (1: friction that only turns), its utilisation |f|/f_max and the stuck share."""
     reg = a.regions.of_links(d["s_link"].values)
     lower = (reg == 2) & (np.asarray(d["contact"].values) > 0) & (np.asarray(d["friction_force"].values) > 0)
     if not a.regions.has_bulk or not a.bulk or not lower.any():
         return dict.fromkeys(LOWER_KEYS, np.nan)
-    bulk_w = b.w[(reg == 1) & b.on_helix]
-    sgn = float(np.sign(np.median(bulk_w))) if bulk_w.size else 1.0
+    sgn = torque.handedness(b, reg == 1)
     i = int(np.argmax(reg == 2))
     f = np.asarray(d["friction_force"].values, dtype=float)[lower]
     return {"lower_torque_ratio": sgn * float(b.tau_friction[i] / b.tau0[i]),
             "lower_torque": sgn * float(b.tau_friction[i]),
             "bulk_torque_max": float(np.max(np.abs(b.tau_friction[reg == 1]))),
             "lower_azimuthal_share": float(np.mean(np.abs(np.asarray(d["friction_phi"].values)[lower]) / f)),
-            "lower_utilisation": float(np.mean(f / _friction_limit(d)[lower])),
+            "lower_utilisation": float(np.mean(f / regions.friction_limit(
+                d["wall_force"].values, float(d.attrs["k_fr"]), float(d.attrs.get("friction_cap", 0.0)),
+                float(d.attrs["l0"]))[lower])),
             "lower_stuck_share": float(np.mean(np.asarray(d["stuck"].values)[lower] > 0))}
-
-
-def _friction_limit(d: xr.Dataset) -> np.ndarray:
-    """The largest friction force per link, min(k_fr N, friction_cap l0) (regions.axial_utilisation)."""
-    a = d.attrs
-    f_max = float(a["k_fr"]) * np.asarray(d["wall_force"].values, dtype=float)
-    cap = float(a.get("friction_cap", 0.0))
-    return np.minimum(f_max, cap * float(a["l0"])) if cap > 0 else f_max
-
 
 
 LOWER_KEYS = ("lower_torque_ratio", "lower_torque", "bulk_torque_max", "lower_azimuthal_share", "lower_utilisation",
@@ -211,8 +204,7 @@ def _add_profiles(ds: xr.Dataset, fig_cfg, groups, sims) -> xr.Dataset:
         b = torque.budget(d)
         a = regions.analyse(d)
         r = a.regions.of_links(d["s_link"].values)
-        w_bulk = b.w[(r == 1) & b.on_helix] if a.regions.has_bulk else b.w[b.on_helix]
-        sgn = float(np.sign(np.median(w_bulk))) if w_bulk.size and np.median(w_bulk) != 0 else 1.0
+        sgn = torque.handedness(b, r == 1 if a.regions.has_bulk else np.ones(r.size, dtype=bool))
         tau_fr.append(sgn * b.tau_friction)
         tau_hx.append(sgn * b.tau_helix)
         on.append(b.on_helix.astype(np.int8))
