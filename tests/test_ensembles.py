@@ -313,3 +313,64 @@ def test_a_figure_read_by_another_must_exist_and_be_of_the_right_kind():
     config["figures"]["map"]["thresholds"] = "nope"
     with pytest.raises(ConfigError, match="figures.map.thresholds: 'nope' is not another figure"):
         pipeline.validate(config)
+
+
+def _aligned(d):
+    """The helix points of a constructed member at link centres (the bulk pitch reads z there)."""
+    return d.assign_coords(s_helix=("helix", d["s_link"].values[:: d.sizes["link"] // 8][:8]))
+
+
+def _ramp_ladder(changes, switched=(), spread=0.3, n_seeds=8):
+    """A ramp ladder 64, 128, 256 steps: seed k transmits F_k (spread over seeds by `spread`),
+    the finer rungs F_k (1 + change_k); the seeds in `switched` end half a turn apart at 256."""
+    sims = {}
+    rng = np.random.default_rng(3)
+    base = 0.2 * (1 + spread * rng.uniform(-1, 1, n_seeds))
+    for steps, factor in ((64, 0.0), (128, 0.0), (256, 1.0)):
+        for seed in range(n_seeds):
+            turns = 3.7 if (steps == 256 and seed in switched) else 3.2
+            d = _aligned(_sim(80.0, seed, base[seed] * (1 + factor * changes[seed]), turns=turns))
+            d.attrs.update(ramp_steps=steps, protocol="ramp")
+            sims[f"n{steps}-s{seed}"] = d
+    return convergence.build({"parameter": "ramp_steps", "tolerance": 0.01, "paired": True}, sims,
+                             {"publication_value": 128})
+
+
+def test_paired_ramp_ladder_decides_what_the_spread_over_seeds_hides():
+    """Seeds spread by +-30 %, the finer ramp changes each by < 0.5 %: unpaired means could not
+    decide at 1 %, the paired comparison passes; a systematic -3 % shift fails."""
+    small = 0.004 * np.sin(np.arange(8))
+    ds = _ramp_ladder(small)
+    assert ds.attrs["status"] == "pass", ds.attrs["notes"]
+    assert ds.attrs["paired"] == 1 and "none of 8 seeds changed" in ds.attrs["notes"]
+    assert ds["publication_distance"].values[0] == pytest.approx(abs(small.mean()), rel=1e-9)
+    assert convergence.build({"parameter": "ramp_steps", "tolerance": 0.01}, {**_ramp_sims_unpaired(small)},
+                             {"publication_value": 128}).attrs["status"].startswith("inconclusive")
+    assert _ramp_ladder(small - 0.03).attrs["status"] == "fail"
+
+
+def _ramp_sims_unpaired(changes):
+    ds = {}
+    rng = np.random.default_rng(3)
+    base = 0.2 * (1 + 0.3 * rng.uniform(-1, 1, 8))
+    for steps, factor in ((64, 0.0), (128, 0.0), (256, 1.0)):
+        for seed in range(8):
+            d = _aligned(_sim(80.0, seed, base[seed] * (1 + factor * changes[seed]), turns=3.2))
+            d.attrs.update(ramp_steps=steps, protocol="ramp")
+            ds[f"n{steps}-s{seed}"] = d
+    return ds
+
+
+def test_paired_ramp_ladder_counts_seeds_that_change_their_final_state_apart():
+    """Two seeds end half a turn apart with +40 % and -30 %: they are named, marked and left out
+    of the mean change of the others (which passes); with one same-state seed left, undecided."""
+    changes = 0.002 * np.cos(np.arange(8))
+    changes[[2, 5]] = (0.4, -0.3)
+    ds = _ramp_ladder(changes, switched=(2, 5))
+    assert ds.attrs["status"] == "pass", ds.attrs["notes"]
+    assert "2 of 8 seeds changed their final state" in ds.attrs["notes"]
+    assert "seed 2 +40 %" in ds.attrs["notes"] and "seed 5 -30 %" in ds.attrs["notes"]
+    moved = ds["state_changed_member"].values
+    assert moved[2].tolist() == [0, 0, 1, 0, 0, 1, 0, 0] and moved[:2].sum() == 0
+    lone = _ramp_ladder(changes, switched=tuple(range(1, 8)))
+    assert lone.attrs["status"].startswith("inconclusive") and "fewer than two seeds" in lone.attrs["status"]

@@ -63,8 +63,9 @@ def test_helix_start_depends_on_the_seed():
     assert 0 < np.abs(a - b).max() < 2e-3
 
 
-def _member(seed, F, steps, protocol="ramp"):
-    return xr.Dataset({"F_transmitted": ((), F)}, attrs={"seed": seed, "ramp_steps": steps, "protocol": protocol})
+def _member(seed, F, steps, protocol="ramp", turns=3.0):
+    return xr.Dataset({"F_transmitted": ((), F), "phi": (("helix",), [0.0, 2 * np.pi * turns])},
+                      attrs={"seed": seed, "ramp_steps": steps, "protocol": protocol})
 
 
 def test_ramp_ladder_pairs_members_by_seed():
@@ -77,7 +78,24 @@ def test_ramp_ladder_pairs_members_by_seed():
     assert ds.attrs["ramp_ladder_paired_change"][0] == pytest.approx(rel.mean(), abs=1e-12)
     assert ds.attrs["ramp_ladder_max_change"][0] == pytest.approx(0.1)
     assert ds.attrs["ramp_ladder_mean_change"][0] == pytest.approx(0.58 / 0.6 - 1)
+    assert ds.attrs["ramp_ladder_state_changes"][0] == 0
     assert "8 -> 16 steps" in ds.attrs["ramp_ladder"]
+
+
+def test_ramp_ladder_counts_a_change_of_final_state_apart():
+    """Seed 2 ends half a turn apart with the finer ramp (another equilibrium): its +50 % is
+    reported as a change of state, not averaged into the refinement of the same state."""
+    sims = {f"r8-s{s}": _member(s, F, 8) for s, F in zip(range(3), (0.1, 0.2, 0.2))}
+    sims.update({f"r16-s{s}": _member(s, F, 16, turns=t) for s, F, t in
+                 zip(range(3), (0.101, 0.199, 0.3), (3.02, 2.98, 3.5))})
+    groups = {"r8": [f"r8-s{s}" for s in range(3)], "r16": [f"r16-s{s}" for s in range(3)]}
+    ds = xr.Dataset()
+    pc._ramp_ladder(ds, groups, sims)
+    assert ds.attrs["ramp_ladder_paired_change"][0] == pytest.approx((0.01 - 0.005) / 2, abs=1e-12)
+    assert ds.attrs["ramp_ladder_same_state"][0] == 2
+    assert ds.attrs["ramp_ladder_state_changes"][0] == 1
+    assert ds.attrs["ramp_ladder_max_change"][0] == pytest.approx(0.01)
+    assert "seed 2 +50 %" in ds.attrs["ramp_ladder"]
 
 
 def test_protocol_comparison_stores_the_torque_and_the_formation():

@@ -139,6 +139,25 @@ def stats(values: Iterable[float]) -> Stats:
     return Stats(int(v.size), float(np.mean(v)), std, std / np.sqrt(v.size), float(v.min()), float(v.max()))
 
 
+#: a seed whose contact stretch winds differently by at least this many turns in two runs that
+#: differ only in the path (a ramp's steps) settled in another final state (measured on the
+#: ramp ladder at L/R = 320: same-state pairs differ by <= 0.05 turn, switches by 0.5-0.65 turn)
+STATE_TURNS = 0.25
+
+
+def paired_changes(seeds: np.ndarray, v: np.ndarray, turns: np.ndarray, has: np.ndarray, i: int,
+                   j: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Two ensembles (rows i and j of Padded arrays: seeds, values v, windings turns) compared
+    seed by seed: (the seeds both have, the relative changes v_j/v_i - 1, whether the seed
+    changed its final state, i.e. its winding by >= STATE_TURNS)."""
+    at_i = {int(seeds[i, k]): k for k in range(has.shape[1]) if has[i, k]}
+    at_j = {int(seeds[j, k]): k for k in range(has.shape[1]) if has[j, k]}
+    common = sorted(set(at_i) & set(at_j))
+    rel = np.array([v[j, at_j[s]] / v[i, at_i[s]] - 1.0 for s in common])
+    changed = np.array([abs(turns[j, at_j[s]] - turns[i, at_i[s]]) >= STATE_TURNS for s in common], dtype=bool)
+    return np.array(common, dtype=int), rel, changed
+
+
 def member_key(params: Mapping[str, object]) -> tuple:
     """What ensemble members share: every parameter but the seed and the name."""
     return tuple(sorted((k, repr(v)) for k, v in params.items() if k not in ("seed", "name")))

@@ -497,12 +497,16 @@ def finding_macros(verdicts: Iterable[Verdict], titles: Mapping[str, str], macro
                                                      if f[0] != "reproduced") or "none")
 
 
+#: longest convergence verdict in the table (a paired ladder's lists every observable's numbers)
+STATUS_CHARS = 110
 SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
 
 
 def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     """\\val{<figure>.<variant>.fraction} (mean +- s.d. of F(L)/F(0)), .lower_length, .decay_ratio,
-    .n_reversals, and \\val{<figure>.ramp_change} (the finest ramp step's paired change of F(L), %)."""
+    .n_reversals, \\val{<figure>.ramp_change} (the finest ramp step's paired change of F(L) over the seeds
+    that keep their final state, %; only with two or more of them), .ramp_state_changes (the seeds that
+    changed it) and .ramp_mean_change (the change of the ensemble mean, %)."""
     two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_ratio", "K_ratio", "K_ratio_from_torque",
            "lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
     for i, v in enumerate(ds.variant.values):
@@ -524,8 +528,14 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
         change = np.atleast_1d(ds.attrs["ramp_ladder_paired_change"])[-1]
         sem = np.atleast_1d(ds.attrs["ramp_ladder_paired_sem"])[-1]
         steps = np.atleast_1d(ds.attrs["ramp_ladder_steps"])[-2:]
-        macros.add_list("val", f"{name}.ramp_change", [(100 * float(change), 100 * float(sem))], ".2f")
+        if int(np.atleast_1d(ds.attrs["ramp_ladder_same_state"])[-1]) >= 2:
+            macros.add_list("val", f"{name}.ramp_change", [(100 * float(change), 100 * float(sem))], ".2f")
         macros.add("val", f"{name}.ramp_steps", f"{steps[0]:g} to {steps[1]:g}")
+        moved = int(np.atleast_1d(ds.attrs["ramp_ladder_state_changes"])[-1])
+        kept = int(np.atleast_1d(ds.attrs["ramp_ladder_same_state"])[-1])
+        macros.add("val", f"{name}.ramp_state_changes", f"{moved} of {moved + kept}")
+        macros.add("val", f"{name}.ramp_mean_change",
+                   f"{100 * float(np.atleast_1d(ds.attrs['ramp_ladder_mean_change'])[-1]):+.1f}")
 
 
 def local_law_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
@@ -563,25 +573,35 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
             continue
         a = ds.attrs
         macros.add("val", f"{name}.status", str(a["status"]))
+        macros.add("val", f"{name}.verdict", short_status(str(a["status"])))
         macros.add("val", f"{name}.distance_percent", format(100 * float(a.get("worst_distance", 0.0)), ".2g"))
         cells = [tex_escape(name), tex_escape(str(a["parameter"]))]
         cells += [tex_value(fmt(float(x)))[0] for x in (a["L"], a["load"], a["k_fr"], a["publication_value"],
                                                         100 * float(a["tolerance"]))]
-        cells.append(rf"\val{{{name}.distance_percent}}; \val{{{name}.status}}")
+        cells.append(rf"\val{{{name}.distance_percent}}; \val{{{name}.verdict}}")
         rows.append(" & ".join(cells) + r" \\")
     table = ""
     if rows:
         table = (r"\begin{table*}[t]\caption{Convergence checks of the numerical settings (rule "
                  r"\texttt{convergence\_check}): each ladder varies one parameter about its publication value; the "
                  r"distance of the publication value from the Richardson limit is the worst over $|F_z(L)|$, $L_z$ "
-                 r"and the pitch.}\label{tab:convergence}" "\n"
-                 r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
+                 r"and the pitch; a verdict cut short is given in full in \texttt{results/checks}.}\label{tab:convergence}"
+                 "\n" r"\small" "\n" r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
                  r"ladder & parameter & $L/R$ & load & $k_{fr}$ & value & tol.~(\%) & off the limit (\%), verdict \\"
                  r" \hline" "\n" + "\n".join(rows)
                  + "\n" r"\hline\end{tabular}\end{table*}")
     macros.raw.append(r"\newcommand{\convergencetable}{" + table + "}")
     commits = sorted({str(ds.attrs.get("git_commit", "unknown")) for ds in datasets.values()})
     macros.add("val", "git_commit", ", ".join(c[:12] for c in commits))
+
+
+def short_status(status: str, limit: int = STATUS_CHARS) -> str:
+    """A convergence verdict for the table: as it is up to `limit` characters, else cut at the
+    last word boundary before it (the table's caption points to the full text in
+    results/checks/<figure>.txt)."""
+    if len(status) <= limit:
+        return status
+    return status[:status.rfind(" ", 0, limit)].rstrip(",;:") + " ..."
 
 
 def claims_table(verdicts: Iterable[Verdict]) -> str:

@@ -188,12 +188,15 @@ def convergence_figures(config: dict[str, Any]) -> list[str]:
 
 
 def publication_value(config: dict[str, Any], figure: str) -> float | None:
-    """The value of a convergence figure's parameter in the publication settings:
-    scene_defaults if set there, else the Scene default (None if the figure names no
-    valid parameter: its validation says so)."""
+    """The value of a convergence figure's parameter in the publication settings: the
+    figure's own publication_value if given (a setting of some figures only, such as the
+    ramp_steps of the ramped figures), else scene_defaults if set there, else the Scene
+    default (None if the figure names no valid parameter: its validation says so)."""
     param = config["figures"][figure].get("parameter")
     if param not in Scene.field_names():
         return None
+    if "publication_value" in config["figures"][figure]:
+        return float(config["figures"][figure]["publication_value"])
     defaults = config.get("scene_defaults") or {}
     if param in defaults:
         return float(defaults[param])

@@ -29,6 +29,14 @@ standard errors is above it. In between (a difference within the tolerance whose
 reach beyond it, or one beyond it that only the error allowance brings back) the ensembles
 cannot decide: the verdict is *inconclusive*, and its note gives the difference, the
 tolerance, the combined standard error and the seeds per rung that would decide.
+
+Paired ladders (option ``paired``; :func:`paired_verdict`). When every rung starts a seed from
+the same state and only the path to equilibrium differs (the number of steps of a load ramp),
+the rungs are compared seed by seed, which removes the spread between seeds. With friction a
+finer path can end in a neighbouring equilibrium (half a turn more or less of the helix), which
+is a change of final state, not a refinement of the same one: such seeds are counted and
+reported apart, and the verdict is decided on the seeds that keep their state, with the same
+rule (mean paired change plus two standard errors within the tolerance).
 """
 from __future__ import annotations
 
@@ -48,7 +56,8 @@ from ..quantities import attrs, label
 from ._common import same_except
 
 REFINEMENT = {"l0": ("h = l0", lambda v: v), "tol": ("h = tol", lambda v: v),
-              "k_ph": ("h = 1/k_ph", lambda v: 1.0 / v), "k_w": ("h = 1/k_w", lambda v: 1.0 / v)}
+              "k_ph": ("h = 1/k_ph", lambda v: 1.0 / v), "k_w": ("h = 1/k_w", lambda v: 1.0 / v),
+              "ramp_steps": ("h = 1/n_ramp", lambda v: 1.0 / v)}
 OBSERVABLES = ("F_transmitted", "L_z", "pitch")
 OPTIONS = {
     "parameter": {"enum": list(REFINEMENT), "description": "the numerical parameter the rungs differ in"},
@@ -57,6 +66,10 @@ OPTIONS = {
                   "before the build fails"},
     "on_inconclusive": {"enum": ["fail", "warn"], "description": "what an inconclusive check (rungs in different "
                         "equilibrium states, non-monotone differences) does to the build: fail, or warn and go on"},
+    "paired": {"type": "boolean", "description": "compare the rungs seed by seed (paired_verdict): for ladders whose "
+               "rungs start every seed from the same state (ramp_steps); default false"},
+    "publication_value": {"type": "number", "description": "the value the figures use when it is not a scene default "
+                          "(e.g. the ramp_steps of the ramped figures); default: scene_defaults or the Scene default"},
 }
 
 
@@ -94,6 +107,18 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
     values = sorted({getattr(s, p) for s in built.values()}, reverse=True)
     vals = ", ".join(f"{v:g}" for v in values)
     n = len(built) / len(values)
+    if n > 1 and fig_cfg.get("paired"):
+        what = "a quasi-static load ramp of n_ramp steps" if p == "ramp_steps" else p
+        return (f"Convergence in the path to equilibrium: {what}, {p} = {vals} (L/R = {sc.L:g}, load = "
+                f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds: ensemble means of the "
+                f"transmitted force, L_z and bulk pitch against the refinement variable (error bars two standard "
+                f"errors), grey dots and lines the single seeds, red circles the seeds that end in another final "
+                f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band of "
+                f"+-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The rungs are compared seed "
+                f"by seed: the publication value {p} = {publication_value:g} passes when the mean paired change to "
+                "every finer rung, over the seeds that keep their final state, plus two standard errors is within the "
+                "tolerance; the seeds that change state are counted apart (a finer path may select a neighbouring "
+                "equilibrium).")
     if n > 1:
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}), each rung a seed ensemble of "
                 f"{n:g} runs: ensemble means of the transmitted force, L_z and bulk pitch against the refinement "
@@ -270,6 +295,51 @@ def statistical_verdict(values: np.ndarray, means: np.ndarray, sems: np.ndarray,
     return "pass", dist, "ok, largest " + numbers(worst)
 
 
+def paired_verdict(values: np.ndarray, v: np.ndarray, seeds: np.ndarray, turns: np.ndarray, has: np.ndarray,
+                   ipub: int, tol: float) -> tuple[str, float, str]:
+    """(status, distance, note) of one observable over rungs ordered coarse to fine, each finer
+    rung compared with the publication rung seed by seed (:func:`paired_changes`).
+
+    Over the seeds that keep their final state, d = |mean relative change| and e its standard
+    error: within the tolerance if d + Z_AGREE e <= tol, beyond it if d - Z_AGREE e > tol,
+    undecided otherwise (the note gives the seeds that would decide). Fewer than two such seeds
+    is undecided. Seeds that changed state are listed with their change in every case; the
+    distance is the largest d."""
+    finer = list(range(ipub + 1, len(values)))
+    if not finer:
+        return "inconclusive", 0.0, "no rung finer than the publication value"
+    verdicts, dist, parts = [], 0.0, []
+    for j in finer:
+        common, rel, changed = ensembles.paired_changes(seeds, v, turns, has, ipub, j)
+        kept = rel[~changed]
+        switched = (f"; {int(changed.sum())} of {rel.size} seeds changed their final state (winding by >= "
+                    f"{ensembles.STATE_TURNS:g} turn): " + ", ".join(f"seed {s} {100 * r:+.2g} %" for s, r in
+                                                          zip(common[changed], rel[changed]))
+                    if changed.any() else f"; none of {rel.size} seeds changed its final state")
+        if kept.size < 2:
+            verdicts.append("inconclusive")
+            parts.append(f"{values[j]:g}: fewer than two seeds keep their final state" + switched)
+            continue
+        st = ensembles.stats(kept)
+        d, e = abs(st.mean), st.sem
+        dist = max(dist, d)
+        head = (f"{values[j]:g}: paired change {100 * st.mean:+.2g} +- {100 * e:.2g} % (s.e., {kept.size} seeds in "
+                f"the same state, largest {100 * np.max(np.abs(kept)):.2g} %), tolerance {100 * tol:g} %")
+        if d - Z_AGREE * e > tol:
+            verdicts.append("fail")
+            parts.append(head + ": beyond" + switched)
+        elif d + Z_AGREE * e > tol:
+            verdicts.append("inconclusive")
+            need = seeds_to_decide(kept.size, e, d, tol)
+            parts.append(head + (f": undecided, about {math.ceil(need)} seeds in the same state would decide"
+                                 if math.isfinite(need) else ": undecided") + switched)
+        else:
+            verdicts.append("pass")
+            parts.append(head + ": within" + switched)
+    status = "fail" if "fail" in verdicts else "inconclusive" if "inconclusive" in verdicts else "pass"
+    return status, dist, "paired by seed: " + "; ".join(parts)
+
+
 def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     """The ladder with a seed ensemble per rung: members, means, standard errors and the
     statistical verdict (statistical_verdict)."""
@@ -289,6 +359,8 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     obs = {"F_transmitted": members(lambda d: float(d["F_transmitted"])), "L_z": members(lambda d: float(d["L_z"]))}
     if helical.all():
         obs["pitch"] = members(bulk_pitch)
+    paired = bool(fig_cfg.get("paired", False))
+    seeds = members(lambda d: float(d.attrs["seed"]))
     data, dist, notes, statuses = {}, [], [], []
     for k, v in obs.items():
         st = [ensembles.stats(v[i, has[i] == 1]) for i in range(len(groups))]
@@ -300,7 +372,10 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                                                                          + " of each ensemble member"})
         data[f"{k}_limit"] = xr.Variable((), means[-1], attrs={**attrs(k), "long_name": "ensemble mean at the finest "
                                                                 "rung of " + attrs(k)["long_name"]})
-        status, d, note = statistical_verdict(values, means, sems, ipub, tol, n=has.sum(axis=1))
+        if paired:
+            status, d, note = paired_verdict(values, v, seeds, turns, has, ipub, tol)
+        else:
+            status, d, note = statistical_verdict(values, means, sems, ipub, tol, n=has.sum(axis=1))
         statuses.append(status)
         dist.append(d)
         notes.append(note)
@@ -316,6 +391,17 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     data["n_turns_member"] = xr.Variable(("rung", "member"), turns, attrs={**attrs("n_turns"), "long_name":
                                          attrs("n_turns")["long_name"] + " of each ensemble member"})
     data["has_member"] = variable(("rung", "member"), has, "has_member")
+    data["member_seed"] = variable(("rung", "member"), seeds.astype(np.int64), "member_seed")
+    if paired:
+        changed = np.zeros(has.shape, dtype=np.int8)
+        for j in range(len(groups)):
+            common, _, moved = ensembles.paired_changes(seeds, np.ones_like(turns), turns, has, ipub, j) if j != ipub else ([], [], [])
+            for s, m in zip(common, moved):
+                changed[j, list(seeds[j]).index(s)] = int(m)
+        data["state_changed_member"] = xr.Variable(
+            ("rung", "member"), changed, attrs={"long_name": "1 where the seed's final state differs from its state at "
+                                                f"the publication rung (winding by >= {ensembles.STATE_TURNS:g} turn)",
+                                                "units": "1"})
     data["n_seeds"] = variable(("rung",), has.sum(axis=1), "n_seeds")
     data["converged"] = variable(("rung",), np.int8(members(lambda d: float(d["converged"])).min(axis=1, initial=1,
                                                                                                    where=has == 1)),
@@ -334,8 +420,11 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     ds.attrs.update({"parameter": param, "refinement": hname, "publication_value": publication_value,
                      "tolerance": tol, "status": status, "worst_distance": max(dist),
                      "notes": "; ".join(f"{k}: {n}" for k, n in zip(checked, notes)),
-                     "method": (f"seed ensembles: rungs agree when their means differ by at most the tolerance plus "
-                                f"{Z_AGREE:g} combined standard errors")})
+                     "paired": int(paired),
+                     "method": (f"seed ensembles paired by seed: the mean relative change over the seeds that keep "
+                                f"their final state, plus {Z_AGREE:g} standard errors, within the tolerance" if paired
+                                else f"seed ensembles: rungs agree when their means differ by at most the tolerance "
+                                f"plus {Z_AGREE:g} combined standard errors")})
     return ds
 
 
@@ -357,7 +446,20 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
 
 
 _H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w": r"$h = 1/k_w$ [$R^3/EI$]",
-            "tol": r"$h = \mathrm{tol}$"}
+            "tol": r"$h = \mathrm{tol}$", "ramp_steps": r"$h = 1/n_{ramp}$"}
+
+
+def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> None:
+    """A paired ladder: each seed's values joined across the rungs; seeds whose final state
+    differs from the publication rung's circled."""
+    seeds, v = ds["member_seed"].values, ds[f"{k}_member"].values
+    for s in np.unique(seeds[has]):
+        at = [(h[i], v[i, list(seeds[i]).index(s)]) for i in range(len(h)) if s in seeds[i][has[i]]]
+        ax.plot(*zip(*at), "-", color="0.75", lw=0.5, zorder=1)
+    moved = (ds["state_changed_member"].values == 1) & has
+    if moved.any():
+        ax.plot(np.broadcast_to(h[:, None], has.shape)[moved], v[moved], "o", ms=6, mfc="none", mec="tab:red",
+                mew=0.9, label="seed in another final state")
 
 
 def plot(ds: xr.Dataset):
@@ -379,6 +481,8 @@ def plot(ds: xr.Dataset):
             has = ds["has_member"].values == 1
             hm = np.broadcast_to(h[:, None], has.shape)
             ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, color="0.6", label="single seeds")
+            if "state_changed_member" in ds:
+                _seed_lines(ax, ds, k, h, has)
             ax.errorbar(h, f, yerr=Z_AGREE * ds[f"{k}_sem"].values, fmt="none", ecolor="black", elinewidth=0.9,
                         capsize=2.5)
         ax.plot(h, f, "o", ms=4.5, **P.SIM, label="ensemble means $\\pm$ 2 s.e." if ensemble else "rungs")
@@ -391,11 +495,9 @@ def plot(ds: xr.Dataset):
                        label=rf"{'finest' if ensemble else 'limit'} $\pm$ {100 * tol:g} %")
             order = float(ds.observed_order[i])
             head = ("ensembles" if ensemble else f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable")
-            ax.text(0.04, 0.96, head + "\n" f"pub.: {100 * float(ds.publication_distance[i]):.2g} % off",
-                    transform=ax.transAxes, va="top", fontsize=7.5)
+            ax.set_title(head + f", pub.: {100 * float(ds.publication_distance[i]):.2g} % off", fontsize=7.5)
         else:
-            ax.text(0.04, 0.96, "not checked\n(not every rung is a helix)", transform=ax.transAxes,
-                    va="top", fontsize=7.5)
+            ax.set_title("not checked (not every rung is a helix)", fontsize=7.5)
         ax.set_xscale("log")
         P.plain_log_ticks(ax.xaxis)
         ax.set_xlabel(_H_LABEL[param])

@@ -12,7 +12,10 @@ of the wall-contact stretch and the bulk decay rate over the corrected local law
 
 A *ramp ladder* (variants that differ only in ``ramp_steps``) is compared member by member
 (same seed): the change of F(L) from each ramp to the next finer one, as the mean paired
-relative change with its standard error, and the largest single change.
+relative change with its standard error and the largest single change over the seeds that
+keep their final state; seeds whose winding changes by half a turn or so (a neighbouring
+equilibrium, ensembles.STATE_TURNS) are counted apart. The convergence check of the ramp
+(kind ``convergence``, parameter ramp_steps) makes the same comparison a verdict.
 """
 from __future__ import annotations
 
@@ -23,7 +26,7 @@ from .. import ensembles, regions, torque
 from .. import plotting as P
 from ..errors import ConfigError
 from ..io import variable
-from ..measure import defects
+from ..measure import defects, n_turns
 from ..quantities import label
 from ._common import need_scenes, same_except, scene_coord
 
@@ -260,31 +263,45 @@ def _add_formation(ds: xr.Dataset, groups, sims) -> xr.Dataset:
 
 
 def _ramp_ladder(ds: xr.Dataset, groups: dict[str, list[str]], sims) -> None:
-    """Paired (same seed) relative change of F(L) from each ramp variant to the next finer one
-    that differs only in ramp_steps; stored as attributes ramp_ladder_* (text and numbers)."""
-    ramps = [(b, float(sims[m[0]].attrs["ramp_steps"])) for b, m in groups.items()
-             if sims[m[0]].attrs.get("protocol") == "ramp"]
-    ramps.sort(key=lambda x: x[1])
+    """Each ramp variant against the next finer one that differs only in ramp_steps, seed by
+    seed (ensembles.paired_changes): the mean relative change of F(L) over the seeds that keep
+    their final state, its standard error, the largest such change, the seeds that changed
+    state and the change of the ensemble mean; stored as attributes ramp_ladder_*."""
+    ramps = sorted(((b, float(sims[m[0]].attrs["ramp_steps"])) for b, m in groups.items()
+                    if sims[m[0]].attrs.get("protocol") == "ramp"), key=lambda x: x[1])
     rows = []
     for (b0, n0), (b1, n1) in zip(ramps[:-1], ramps[1:]):
-        seeds0 = {int(sims[m].attrs["seed"]): float(sims[m]["F_transmitted"]) for m in groups[b0]}
-        seeds1 = {int(sims[m].attrs["seed"]): float(sims[m]["F_transmitted"]) for m in groups[b1]}
-        common = sorted(set(seeds0) & set(seeds1))
-        if not common:
+        pad = ensembles.Padded([groups[b0], groups[b1]], sims)
+        seeds = pad.values(lambda d: float(d.attrs["seed"]))
+        F = pad.values(lambda d: float(d["F_transmitted"]))
+        common, rel, moved = ensembles.paired_changes(seeds, F, pad.values(n_turns), pad.has, 0, 1)
+        if common.size == 0:
             continue
-        rel = np.array([seeds1[s] / seeds0[s] - 1.0 for s in common])
-        st = ensembles.stats(rel)
-        mean0, mean1 = np.mean([seeds0[s] for s in common]), np.mean([seeds1[s] for s in common])
-        rows.append((n0, n1, st.mean, st.sem, float(np.max(np.abs(rel))), float(mean1 / mean0 - 1.0), len(common)))
+        kept = rel[~moved]
+        st = ensembles.stats(kept) if kept.size else ensembles.Stats(0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        mean0, mean1 = (float(np.mean(F[i][pad.has[i] == 1])) for i in (0, 1))
+        rows.append((n0, n1, st.mean, st.sem, float(np.max(np.abs(kept))) if kept.size else 0.0,
+                     mean1 / mean0 - 1.0, kept.size, int(moved.sum()),
+                     ", ".join(f"seed {s} {100 * r:+.2g} %" for s, r in zip(common[moved], rel[moved]))))
     if rows:
         ds.attrs["ramp_ladder_steps"] = np.array([[r[0], r[1]] for r in rows]).ravel()
         ds.attrs["ramp_ladder_paired_change"] = np.array([r[2] for r in rows])
         ds.attrs["ramp_ladder_paired_sem"] = np.array([r[3] for r in rows])
         ds.attrs["ramp_ladder_max_change"] = np.array([r[4] for r in rows])
         ds.attrs["ramp_ladder_mean_change"] = np.array([r[5] for r in rows])
-        ds.attrs["ramp_ladder"] = "; ".join(
-            f"{r[0]:g} -> {r[1]:g} steps: paired change of F(L) {100 * r[2]:+.2f} +- {100 * r[3]:.2f} % (s.e.), "
-            f"largest single {100 * r[4]:.1f} %, change of the mean {100 * r[5]:+.2f} % ({r[6]} seeds)" for r in rows)
+        ds.attrs["ramp_ladder_same_state"] = np.array([r[6] for r in rows])
+        ds.attrs["ramp_ladder_state_changes"] = np.array([r[7] for r in rows])
+        ds.attrs["ramp_ladder"] = "; ".join(_ladder_text(r) for r in rows)
+
+
+def _ladder_text(r) -> str:
+    n0, n1, change, sem, largest, mean_change, kept, moved, which = r
+    same = (f"paired change of F(L) {100 * change:+.2f} +- {100 * sem:.2f} % (s.e., {kept} seeds in the same final "
+            f"state, largest {100 * largest:.1f} %)" if kept >= 2 else
+            f"the one seed in the same final state changed F(L) by {100 * change:+.2f} %" if kept == 1 else
+            "no seed kept its final state")
+    return (f"{n0:g} -> {n1:g} steps: {same}, {moved} seeds changed their final state (winding by >= "
+            f"{ensembles.STATE_TURNS:g} turn){': ' + which if moved else ''}; change of the mean {100 * mean_change:+.2f} %")
 
 
 PANELS = (("fraction", r"$|F_z(L)|/|F_z(0)|$"), ("lower_length", r"lower region $L - s_l$ [$R$]"),
