@@ -431,6 +431,12 @@ class Macros:
         tex, plain = tex_value(str(text))
         self.items[f"{family}@{_key(key)}"] = (family, tex, plain)
 
+    def add_text(self, family: str, key: str, text: str) -> None:
+        """A sentence (e.g. a verdict with its numbers): as add, with every ' +- ' typeset as a
+        plus-minus sign."""
+        tex, plain = tex_value(str(text))
+        self.items[f"{family}@{_key(key)}"] = (family, tex.replace(" +- ", r" \ensuremath{\pm} "), plain)
+
     def add_list(self, family: str, key: str, values: list[tuple[float, float]], spec: str = ".3g") -> None:
         """A list of values mean +- s.d. (no s.d. where it is 0), typeset with a real plus-minus
         sign; pdftotext gives it back as the +- of normalize()."""
@@ -573,7 +579,11 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
             continue
         a = ds.attrs
         macros.add("val", f"{name}.status", str(a["status"]))
-        macros.add("val", f"{name}.verdict", short_status(str(a["status"])))
+        macros.add_text("val", f"{name}.verdict", short_status(str(a["status"])))
+        if "state_changed_member" in ds:
+            # a paired ladder: the seeds that end in another state than at the publication rung
+            moved = ds["state_changed_member"].values[-1][ds["has_member"].values[-1] == 1]
+            macros.add("val", f"{name}.state_changes", f"{int(moved.sum())} of {moved.size}")
         macros.add("val", f"{name}.distance_percent", format(100 * float(a.get("worst_distance", 0.0)), ".2g"))
         cells = [tex_escape(name), tex_escape(str(a["parameter"]))]
         cells += [tex_value(fmt(float(x)))[0] for x in (a["L"], a["load"], a["k_fr"], a["publication_value"],

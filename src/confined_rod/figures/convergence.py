@@ -356,14 +356,18 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     members, has = pad.values, pad.has
     turns = members(n_turns)
     helical = (turns >= 1.0) | (has == 0)
-    obs = {"F_transmitted": members(lambda d: float(d["F_transmitted"])), "L_z": members(lambda d: float(d["L_z"]))}
-    if helical.all():
-        obs["pitch"] = members(bulk_pitch)
     paired = bool(fig_cfg.get("paired", False))
+    obs = {"F_transmitted": members(lambda d: float(d["F_transmitted"])), "L_z": members(lambda d: float(d["L_z"]))}
+    # the pitch needs a helix on every rung the verdict reads: all of them, or for a paired
+    # ladder the publication rung and the finer ones (a coarser rung's seeds that jammed with
+    # less than a turn are then left out of its pitch statistics)
+    if helical[ipub if paired else 0:].all():
+        obs["pitch"] = members(bulk_pitch)
     seeds = members(lambda d: float(d.attrs["seed"]))
     data, dist, notes, statuses = {}, [], [], []
     for k, v in obs.items():
-        st = [ensembles.stats(v[i, has[i] == 1]) for i in range(len(groups))]
+        use = (has == 1) & (helical if k == "pitch" else True)
+        st = [ensembles.stats(v[i, use[i]]) for i in range(len(groups))]
         means, sems = np.array([s.mean for s in st]), np.array([s.sem for s in st])
         data[k] = variable(("rung",), means, k)
         data[f"{k}_sem"] = xr.Variable(("rung",), sems, attrs={**attrs(k), "long_name": "standard error of the "
@@ -480,6 +484,8 @@ def plot(ds: xr.Dataset):
         if ensemble:
             has = ds["has_member"].values == 1
             hm = np.broadcast_to(h[:, None], has.shape)
+            if k == "pitch":        # a member with less than a turn has no pitch (0)
+                has = has & (ds[f"{k}_member"].values > 0)
             ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, color="0.6", label="single seeds")
             if "state_changed_member" in ds:
                 _seed_lines(ax, ds, k, h, has)
