@@ -594,9 +594,11 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
     if rows:
         table = (r"\begin{table*}[t]\caption{Convergence checks of the numerical settings (rule "
                  r"\texttt{convergence\_check}): each ladder varies one parameter about its publication value; the "
-                 r"distance of the publication value from the Richardson limit is the worst over $|F_z(L)|$, $L_z$ "
-                 r"and the pitch; a verdict cut short is given in full in \texttt{results/checks}.}\label{tab:convergence}"
-                 "\n" r"\small" "\n" r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
+                 r"distance of the publication value from the limit (the Richardson limit; for seed ensembles the "
+                 r"finest rung's mean; for the ramp ladders the mean change seed by seed) is the worst over "
+                 r"$|F_z(L)|$, $L_z$ and the pitch; a verdict cut short is given in full in "
+                 r"\texttt{results/checks}.}\label{tab:convergence}" "\n" r"\small" "\n"
+                 r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
                  r"ladder & parameter & $L/R$ & load & $k_{fr}$ & value & tol.~(\%) & off the limit (\%), verdict \\"
                  r" \hline" "\n" + "\n".join(rows)
                  + "\n" r"\hline\end{tabular}\end{table*}")

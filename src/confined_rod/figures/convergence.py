@@ -113,10 +113,10 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
                 f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds: ensemble means of the "
                 f"transmitted force, L_z and bulk pitch against the refinement variable (error bars two standard "
                 f"errors), grey dots and lines the single seeds, red circles the seeds that end in another final "
-                f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band of "
-                f"+-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The rungs are compared seed "
-                f"by seed: the publication value {p} = {publication_value:g} passes when the mean paired change to "
-                "every finer rung, over the seeds that keep their final state, plus two standard errors is within the "
+                f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band "
+                f"of +-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The rungs are compared "
+                f"seed by seed: the publication value {p} = {publication_value:g} passes when the mean paired change "
+                "to every finer rung, over the seeds that keep their final state, plus two standard errors is within the "
                 "tolerance; the seeds that change state are counted apart (a finer path may select a neighbouring "
                 "equilibrium).")
     if n > 1:
@@ -398,8 +398,8 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     data["member_seed"] = variable(("rung", "member"), seeds.astype(np.int64), "member_seed")
     if paired:
         changed = np.zeros(has.shape, dtype=np.int8)
-        for j in range(len(groups)):
-            common, _, moved = ensembles.paired_changes(seeds, np.ones_like(turns), turns, has, ipub, j) if j != ipub else ([], [], [])
+        for j in (j for j in range(len(groups)) if j != ipub):
+            common, _, moved = ensembles.paired_changes(seeds, np.ones_like(turns), turns, has, ipub, j)
             for s, m in zip(common, moved):
                 changed[j, list(seeds[j]).index(s)] = int(m)
         data["state_changed_member"] = xr.Variable(

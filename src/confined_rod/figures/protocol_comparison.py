@@ -301,7 +301,8 @@ def _ladder_text(r) -> str:
             f"the one seed in the same final state changed F(L) by {100 * change:+.2f} %" if kept == 1 else
             "no seed kept its final state")
     return (f"{n0:g} -> {n1:g} steps: {same}, {moved} seeds changed their final state (winding by >= "
-            f"{ensembles.STATE_TURNS:g} turn){': ' + which if moved else ''}; change of the mean {100 * mean_change:+.2f} %")
+            f"{ensembles.STATE_TURNS:g} turn){': ' + which if moved else ''}; change of the mean "
+            f"{100 * mean_change:+.2f} %")
 
 
 PANELS = (("fraction", r"$|F_z(L)|/|F_z(0)|$"), ("lower_length", r"lower region $L - s_l$ [$R$]"),
