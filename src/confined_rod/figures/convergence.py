@@ -116,8 +116,8 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
                 f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band "
                 f"of +-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The rungs are compared "
                 f"seed by seed: the publication value {p} = {publication_value:g} passes when the mean paired change "
-                "to every finer rung, over the seeds that keep their final state, plus two standard errors is within the "
-                "tolerance; the seeds that change state are counted apart (a finer path may select a neighbouring "
+                "to every finer rung, over the seeds that keep their final state, plus two standard errors is within "
+                "the tolerance; the seeds that change state are counted apart (a finer path may select a neighbouring "
                 "equilibrium).")
     if n > 1:
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}), each rung a seed ensemble of "
