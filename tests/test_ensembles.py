@@ -361,16 +361,29 @@ def _ramp_sims_unpaired(changes):
     return ds
 
 
-def test_paired_ramp_ladder_counts_seeds_that_change_their_final_state_apart():
-    """Two seeds end half a turn apart with +40 % and -30 %: they are named, marked and left out
-    of the mean change of the others (which passes); with one same-state seed left, undecided."""
+def test_paired_ramp_ladder_lists_seeds_that_change_their_final_state():
+    """Two seeds end half a turn apart with +40 % and -30 %: they are named and marked, the
+    change of the others is given apart, and the ensemble's change is undecided at 1 % (the
+    same seeds without the switches pass)."""
     changes = 0.002 * np.cos(np.arange(8))
+    assert _ramp_ladder(changes.copy()).attrs["status"] == "pass"
     changes[[2, 5]] = (0.4, -0.3)
     ds = _ramp_ladder(changes, switched=(2, 5))
-    assert ds.attrs["status"] == "pass", ds.attrs["notes"]
-    assert "2 of 8 seeds changed their final state" in ds.attrs["notes"]
-    assert "seed 2 +40 %" in ds.attrs["notes"] and "seed 5 -30 %" in ds.attrs["notes"]
+    notes = ds.attrs["notes"]
+    assert ds.attrs["status"].startswith("inconclusive"), notes
+    assert "2 of 8 seeds changed their final state" in notes
+    assert "seed 2 +40 %" in notes and "seed 5 -30 %" in notes
+    assert "over the 6 seeds that keep their final state" in notes
     moved = ds["state_changed_member"].values
     assert moved[2].tolist() == [0, 0, 1, 0, 0, 1, 0, 0] and moved[:2].sum() == 0
-    lone = _ramp_ladder(changes, switched=tuple(range(1, 8)))
-    assert lone.attrs["status"].startswith("inconclusive") and "fewer than two seeds" in lone.attrs["status"]
+
+
+def test_paired_ramp_ladder_of_three_seeds_uses_the_student_bound():
+    """Three seeds changing by -0.75, -0.35, +0.05 %: mean -0.35 %, s.e. 0.23 %. Two standard
+    errors would put the bound at 0.81 % (within 1 %), the 95 % Student bound with two degrees of
+    freedom (t = 4.30) at 1.34 %: undecided."""
+    assert convergence.t_factor(3) == pytest.approx(4.303, abs=1e-3)
+    assert convergence.t_factor(1000) == pytest.approx(1.962, abs=1e-3)
+    ds = _ramp_ladder(np.array([-0.0075, -0.0035, 0.0005]), n_seeds=3)
+    assert ds.attrs["status"].startswith("inconclusive"), ds.attrs["notes"]
+    assert "95 % bound 1.3 %" in ds.attrs["notes"] and "about 4 seeds would decide" in ds.attrs["notes"]

@@ -141,7 +141,7 @@ def stats(values: Iterable[float]) -> Stats:
 
 #: a seed whose contact stretch winds differently by at least this many turns in two runs that
 #: differ only in the path (a ramp's steps) settled in another final state (measured on the
-#: ramp ladder at L/R = 320: same-state pairs differ by <= 0.05 turn, switches by 0.5-0.65 turn)
+#: ramp ladders at L/R = 320: same-state pairs differ by <= 0.08 turn, switches by >= 0.5 turn)
 STATE_TURNS = 0.25
 
 

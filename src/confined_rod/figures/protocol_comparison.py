@@ -349,6 +349,10 @@ def _plot_variants(ds: xr.Dataset, axes) -> None:
             if m.any():
                 ax.errorbar(float(ds[f"{key}_mean"].values[i]), y[i], xerr=float(ds[f"{key}_std"].values[i]),
                             fmt="o", ms=4, color="black", capsize=2, label="mean $\\pm$ s.d." if i == 0 else None)
+        shown = vals[ok]
+        if key == "fraction" and shown.size and shown.min() > 0 and shown.max() / shown.min() > 10:
+            ax.set_xscale("log")        # fractions over a decade and more: the small ones stay apart
+            P.plain_log_ticks(ax.xaxis)
         if key == "decay_ratio":
             ax.axvline(1.0, **P.MODEL)
             ax.axvline(2.0, **P.PAPER)
@@ -363,8 +367,9 @@ def _plot_variants(ds: xr.Dataset, axes) -> None:
             ax.tick_params(labelleft=False)
     axes[0].set_yticks(y)
     axes[0].set_yticklabels([str(v) for v in ds["variant_label"].values], fontsize=7.5)
-    # in the decay-rate panel, where matplotlib finds the place with the least data
-    axes[3].legend(*axes[0].get_legend_handles_labels(), loc="best", fontsize=7, handletextpad=0.2, framealpha=0.9)
+    # above the variants' labels, left of panel (a): clear of every row of data and of the panel letters
+    axes[0].legend(loc="lower right", bbox_to_anchor=(-0.04, 0.98), fontsize=7, handletextpad=0.2, frameon=False,
+                   borderaxespad=0.0)
 
 
 def _label(ds: xr.Dataset, base: str) -> str:
