@@ -213,6 +213,8 @@ def test_numerical_study_figures_are_validated():
         pipeline.validate(bad)
     assert pipeline.publication_value(config, "conv_l0") == 1.0
     assert pipeline.publication_value(config, "conv_k_ph") == Scene(L=10.0).k_ph  # Scene default
+    # a setting of some figures only (the ramped ones) is the figure's own publication_value
+    assert pipeline.publication_value(config, "conv_ramp_steps") == 128.0 != Scene(L=10.0).ramp_steps
     outs = pipeline.expected_outputs(config)
-    assert sorted(outs["checks"]) == sorted(f"results/checks/{f}.txt"
-                                            for f in ("conv_l0", "conv_k_ph", "conv_l0_friction"))
+    assert sorted(outs["checks"]) == sorted(f"results/checks/{f}.txt" for f in
+                                            ("conv_l0", "conv_k_ph", "conv_l0_friction", "conv_ramp_steps"))
