@@ -43,6 +43,7 @@ localrules:
 rule all:
     default_target: True
     input:
+        ALL_TARGETS["datasets"],
         ALL_TARGETS["figures"],
         ALL_TARGETS["checks"],
         ALL_TARGETS["paper"],

@@ -115,6 +115,30 @@ def test_snakemake_stops_on_a_bad_config_before_any_job(tmp_path):
     assert "k_fr" in msg and "-1.0" in msg and "Job stats" not in msg
 
 
+def test_deleted_datasets_and_simulations_are_rebuilt(tmp_path):
+    """Every product of the CI config present (empty files, newer than the code) except the
+    datasets and the simulations: the default target plans them again (the datasets are
+    products; a build that kept only figures and the paper used to answer 'Nothing to be done')."""
+    snakemake = Path(sys.executable).with_name("snakemake")
+    if not snakemake.exists():
+        pytest.skip("snakemake not installed (pip install -e .[workflow])")
+    config = load(CONFIGS[1])
+    outs = pipeline.expected_outputs(copy.deepcopy(config))
+    for kind in ("figures", "checks", "paper"):
+        for p in outs[kind]:
+            (tmp_path / p).parent.mkdir(parents=True, exist_ok=True)
+            (tmp_path / p).write_text("")
+    out = subprocess.run([str(snakemake), "-n", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(tmp_path),
+                          "--configfile", str(CONFIGS[1]), "--cores", "1", "--quiet", "rules"], cwd=ROOT,
+                         capture_output=True, text=True, timeout=300, env={**os.environ})
+    msg = out.stdout + out.stderr
+    assert out.returncode == 0, msg[-2000:]
+    planned = {line.split()[0]: int(line.split()[1]) for line in msg.splitlines()
+               if len(line.split()) == 2 and line.split()[1].isdigit()}
+    assert planned.get("postprocess") == len(outs["datasets"]), msg[-2000:]
+    assert planned.get("simulate", 0) > 0
+
+
 # -- per-figure datasets built from model data -------------------------------------------
 def fake_sim(L, k_fr, load=0.25, N=100, s_h=2.0, F_end=None):
     """A scene dataset whose force profile is the simple model from s_h on (constant before)."""
@@ -218,3 +242,28 @@ def test_numerical_study_figures_are_validated():
     outs = pipeline.expected_outputs(config)
     assert sorted(outs["checks"]) == sorted(f"results/checks/{f}.txt" for f in
                                             ("conv_l0", "conv_k_ph", "conv_l0_friction", "conv_ramp_steps"))
+
+
+@pytest.mark.parametrize("order", ["ensemble first", "entry first"])
+def test_a_seed_ensemble_and_an_entry_of_the_same_expanded_name_are_refused(order):
+    """`L20: {seeds: 2}` beside `L20-s1` used to drop one of them silently (a caption then spoke
+    of 1.5 runs per length); the config is refused, naming both entries, in either order."""
+    config = load(CONFIGS[1])
+    entries = [("L20", {"L": 20, "seeds": 2}), ("L20-s1", {"L": 20, "seed": 1, "k_fr": 0.3})]
+    if order == "entry first":
+        entries.reverse()
+    config["figures"]["fig6_FonL"]["scenes"] = dict(entries)
+    config["figures"]["fig6_FonL"]["defaults"].pop("seeds", None)      # L20-s1 is then a single run
+    with pytest.raises(pipeline.ConfigError, match=r"figures\.fig6_FonL\.scenes: .*'L20'.* and .*'L20-s1'.*|"
+                                                   r"figures\.fig6_FonL\.scenes: .*'L20-s1'.* and .*'L20'.*"):
+        pipeline.expand(config)
+
+
+def test_jamming_map_loads_that_round_to_one_name_are_refused():
+    config = load(CONFIGS[1])
+    config["figures"]["jamming_map"]["grid"]["load"] = [0.1, 0.1000001, 0.25]
+    with pytest.raises(pipeline.ConfigError, match=r"figures\.jamming_map\.grid\.load: 0\.1 and 0\.1000001"):
+        pipeline.expand(config)
+    config["figures"]["jamming_map"]["grid"]["load"] = [0.1, 0.1001]     # distinct names: accepted
+    names = pipeline.expand(config)["figures"]["jamming_map"]["scenes"]
+    assert any("-F0p1-" in n for n in names) and any("-F0p1001-" in n for n in names)

@@ -133,7 +133,10 @@ def expand_sweeps(config: dict[str, Any]) -> None:
         if fig.get("kind") in kinds.kinds():
             expand = getattr(kinds.get(fig["kind"]), "expand_sweeps", None)
             if expand:
-                expand(fig)
+                try:
+                    expand(fig)
+                except ConfigError as e:
+                    raise ConfigError(f"figures.{f}.{e}") from None
 
 
 def expand_ensembles(config: dict[str, Any]) -> None:
@@ -147,11 +150,12 @@ def expand_ensembles(config: dict[str, Any]) -> None:
         fig = config["figures"][f]
         defaults = fig.get("defaults") or {}
         out: dict[str, Any] = {}
+        origin: dict[str, str] = {}     # expanded name -> the config entry it came from
         for name, entry in (fig.get("scenes") or {}).items():
             entry = dict(entry or {})
             spec = entry.pop("seeds", defaults.get("seeds", top.get("seeds")))
             if spec is None:
-                out[name] = entry
+                _add_scene(out, origin, f, name, entry, name)
                 continue
             if not getattr(kinds.get(fig["kind"]), "ENSEMBLES", False):
                 raise ConfigError(f"figures.{f}.scenes.{name}.seeds: kind {fig['kind']!r} does not support seed "
@@ -164,11 +168,21 @@ def expand_ensembles(config: dict[str, Any]) -> None:
             except ValueError as e:
                 raise ConfigError(f"figures.{f}.scenes.{name}.seeds: {e}") from None
             for seed in seeds:
-                out[f"{name}-s{seed}"] = {**entry, "seed": seed}
+                _add_scene(out, origin, f, f"{name}-s{seed}", {**entry, "seed": seed}, name)
         if fig.get("scenes") is not None:
             fig["scenes"] = out
         defaults.pop("seeds", None)
     top.pop("seeds", None)
+
+
+def _add_scene(out: dict[str, Any], origin: dict[str, str], figure: str, name: str, entry: dict, source: str) -> None:
+    """One expanded scene; two config entries that give the same name are refused, naming both."""
+    if name in out:
+        a, b = origin[name], source
+        what = (f"the entry {a!r}" if a == name else f"the seed ensemble {a!r}") + " and " + \
+            (f"the entry {b!r}" if b == name else f"the seed ensemble {b!r}")
+        raise ConfigError(f"figures.{figure}.scenes: {what} both give the scene {name!r}; rename one")
+    out[name], origin[name] = entry, source
 
 
 def expand(config: dict[str, Any]) -> dict[str, Any]:

@@ -52,6 +52,13 @@ def expand_sweeps(fig_cfg: dict) -> None:
     grid = fig_cfg.get("grid")
     if not grid:
         return
+    for axis in AXES:
+        tags: dict[str, object] = {}
+        for v in grid.get(axis) or []:
+            other = tags.setdefault(_tag(v), v)
+            if other != v:
+                raise ConfigError(f"grid.{axis}: {other!r} and {v!r} give the same scene name ({axis} "
+                                  f"{_tag(v)!r}: names keep 6 significant digits); make them differ within those")
     scenes = fig_cfg.setdefault("scenes", {}) or {}
     for L in grid["L"]:
         for load in grid["load"]:
