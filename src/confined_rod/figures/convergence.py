@@ -344,9 +344,9 @@ def paired_verdict(values: np.ndarray, v: np.ndarray, seeds: np.ndarray, turns: 
         st, kept = ensembles.stats(rel), rel[~changed]
         d, e, t = abs(st.mean), st.sem, t_factor(rel.size)
         dist = max(dist, d)
-        same = (f"; over the {kept.size} seeds that keep their final state {100 * np.mean(kept):+.2g} +- "
-                f"{100 * np.std(kept, ddof=1) / np.sqrt(kept.size):.2g} % (largest {100 * np.max(np.abs(kept)):.2g} %)"
-                if kept.size >= 2 else "")
+        ks = ensembles.stats(kept) if kept.size >= 2 else None
+        same = (f"; over the {ks.n} seeds that keep their final state {100 * ks.mean:+.2g} +- {100 * ks.sem:.2g} % "
+                f"(largest {100 * max(abs(ks.min), abs(ks.max)):.2g} %)" if ks else "")
         switched = (f"; {int(changed.sum())} of {rel.size} seeds changed their final state (winding by >= "
                     f"{ensembles.STATE_TURNS:g} turn): " + ", ".join(f"seed {s} {100 * r:+.2g} %" for s, r in
                                                           zip(common[changed], rel[changed]))
