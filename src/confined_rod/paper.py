@@ -534,11 +534,11 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
         change = np.atleast_1d(ds.attrs["ramp_ladder_paired_change"])[-1]
         sem = np.atleast_1d(ds.attrs["ramp_ladder_paired_sem"])[-1]
         steps = np.atleast_1d(ds.attrs["ramp_ladder_steps"])[-2:]
-        if int(np.atleast_1d(ds.attrs["ramp_ladder_same_state"])[-1]) >= 2:
+        kept = int(np.atleast_1d(ds.attrs["ramp_ladder_same_state"])[-1])
+        if kept >= 2:
             macros.add_list("val", f"{name}.ramp_change", [(100 * float(change), 100 * float(sem))], ".2f")
         macros.add("val", f"{name}.ramp_steps", f"{steps[0]:g} to {steps[1]:g}")
         moved = int(np.atleast_1d(ds.attrs["ramp_ladder_state_changes"])[-1])
-        kept = int(np.atleast_1d(ds.attrs["ramp_ladder_same_state"])[-1])
         macros.add("val", f"{name}.ramp_state_changes", f"{moved} of {moved + kept}")
         macros.add("val", f"{name}.ramp_mean_change",
                    f"{100 * float(np.atleast_1d(ds.attrs['ramp_ladder_mean_change'])[-1]):+.1f}")
