@@ -1,6 +1,7 @@
 """Check every artifact a pipeline config promises: it exists, opens, and holds no NaN.
 
     python tools/check_artifacts.py config/ci.yaml [--report results/report.html]
+    python tools/check_artifacts.py config/config.yaml --figure fig6_FonL   # one figure's artifacts
 
 netCDF files must open with xarray, carry CF attributes, and have no NaN or inf in
 any floating-point variable; figures must be non-empty images (PNG decodes to a
@@ -96,13 +97,29 @@ def check_verdict(path: Path) -> list[str]:
     return []
 
 
+def figure_outputs(config: dict, names: list[str]) -> dict[str, list[str]]:
+    """The artifacts of the named figures only (a partial build, such as CI's publication part)."""
+    unknown = [f for f in names if f not in pipeline.figures(config)]
+    if unknown:
+        raise SystemExit(f"--figure: {unknown[0]!r} is not a figure of this config")
+    checks = set(pipeline.convergence_figures(config))
+    return {"sims": [p for f in names for p in pipeline.figure_sims(config, f)],
+            "datasets": [pipeline.dataset_path(f) for f in names],
+            "figures": [p for f in names for p in pipeline.figure_paths(f)],
+            "checks": [pipeline.check_path(f) for f in names if f in checks]}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("config")
     ap.add_argument("--report", help="also check this HTML report (exists, mentions every figure)")
+    ap.add_argument("--figure", action="append", default=[],
+                    help="check only this figure's simulations, dataset, images and check (repeatable)")
     args = ap.parse_args(argv)
     config = yaml.safe_load(Path(args.config).read_text())
     expected = pipeline.expected_outputs(config)
+    if args.figure:
+        expected = figure_outputs(config, args.figure)
     errors: list[str] = []
     n = 0
     for kind, paths in expected.items():
