@@ -59,6 +59,21 @@ class Evidence:
     sims: Mapping[str, xr.Dataset] = field(default_factory=dict)
     #: 'figure/scene' -> the file it was read from (a run shared by several figures is one file)
     files: Mapping[str, str] = field(default_factory=dict)
+    #: what the claim being evaluated has read: ("dataset", figure) and ("sim", 'figure/scene')
+    touched: set = field(default_factory=set)
+
+    def unsettled(self) -> list[str]:
+        """The runs behind what has been read that are not at equilibrium: 'figure/scene (status)'."""
+        from . import evidence
+
+        runs: list[str] = []
+        for what, key in sorted(self.touched):
+            if what == "dataset":
+                runs += evidence.flagged(self.datasets[key].attrs.get("not_at_equilibrium"))
+            else:
+                runs += [f"{key} ({evidence.status(self.sims[key])})"] if evidence.status(
+                    self.sims[key]) != evidence.EQUILIBRIUM else []
+        return list(dict.fromkeys(runs))
 
     def file(self, key: str) -> str:
         """The path of the simulation 'figure/scene' as the build has it (evidence strings)."""
@@ -68,6 +83,7 @@ class Evidence:
         if figure not in self.datasets:
             raise ClaimError(f"claim {claim!r} needs the dataset of figure {figure!r} "
                              f"(results/datasets/{figure}.nc), which this config does not build")
+        self.touched.add(("dataset", figure))
         return self.datasets[figure]
 
     def sim(self, figure: str, scene: str | int, claim: str) -> tuple[str, xr.Dataset]:
@@ -82,6 +98,7 @@ class Evidence:
             key = f"{figure}/{scene}"
         if key not in self.sims:
             raise ClaimError(f"claim {claim!r} needs results/sims/{key}.nc")
+        self.touched.add(("sim", key))
         return key, self.sims[key]
 
 
@@ -92,7 +109,9 @@ class Evidence:
         names = [k.split("/", 1)[1] for k in self.sims if k.startswith(figure + "/")]
         seeds = {n: int(self.sims[f"{figure}/{n}"].attrs.get("seed", 0)) for n in names}
         base = ensembles.base_name(key.split("/", 1)[1], int(first.attrs.get("seed", 0)))
-        return [(f"{figure}/{n}", self.sims[f"{figure}/{n}"]) for n in ensembles.by_base(names, seeds)[base]]
+        keys = [f"{figure}/{n}" for n in ensembles.by_base(names, seeds)[base]]
+        self.touched.update(("sim", k) for k in keys)
+        return [(k, self.sims[k]) for k in keys]
 
 
 def _by_length(sims, figure, names):
@@ -890,6 +909,7 @@ def pitch_exponent(ev, spec, claim):
         _, rod = ev.sim(spec["figure"], -1, claim)
         same = [(k, d) for k, d in ev.sims.items() if k.startswith(spec["seeds_from"] + "/")
                 and all(float(d.attrs[a]) == float(rod.attrs[a]) for a in ("L", "load", "k_fr"))]
+        ev.touched.update(("sim", k) for k, _ in same)
         per = [float(pitch_profile.build({}, {k: d})["exponent_omega_F_bulk"]) for k, d in same]
         if per:
             ok = [abs(e - target) <= tol for e in per]
@@ -1107,6 +1127,32 @@ def _within(ours, paper, tol):
 
 
 def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
+    """A claim's verdict; if anything it read comes from a run that is not at equilibrium, the
+    verdict is 'not testable' and the note names those runs (the measure is not trusted, and
+    may not even complete, on such evidence)."""
+    ev.touched.clear()
+    try:
+        verdict = _evaluate_one(c, ev)
+    except (ClaimError, ValueError, KeyError, IndexError, ZeroDivisionError):
+        if not ev.unsettled():
+            raise
+        verdict = None
+    off = ev.unsettled()
+    if off:
+        return unsettled_verdict(c, off)
+    return verdict
+
+
+def unsettled_verdict(c: Mapping[str, Any], runs: list[str]) -> Verdict:
+    shown = "; ".join(runs[:4]) + (f"; and {len(runs) - 4} more" if len(runs) > 4 else "")
+    paper = c.get("paper", "-")
+    return Verdict(c["id"], c["where"], c["claim"], str(paper if "paper_from" not in c else "-"),
+                   float(paper) if isinstance(paper, (int, float)) and not isinstance(paper, bool) else None,
+                   "-", None, "", "not testable", "-", str(c.get("reading", "")),
+                   f"evidence not at equilibrium ({shown})", str(c.get("finding", c["id"])))
+
+
+def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
     from . import derivations
 
     test, cid = c["test"], c["id"]

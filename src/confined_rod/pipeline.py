@@ -84,21 +84,42 @@ def figure_paths(figure: str) -> tuple[str, str]:
 def canonical_scene(config: dict[str, Any], figure: str, scene: str) -> tuple[str, str]:
     """The first declared (figure, scene) with exactly the same parameters, so that a rod
     shared by several figures (e.g. Fig 4(c) and a point of Fig 6) is simulated once."""
-    mine = _key(scene_params(config, figure, scene))
-    for f in figures(config):
-        for s in scenes(config, f):
-            if _key(scene_params(config, f, s)) == mine:
-                return f, s
-    raise KeyError(f"{figure}/{scene}")  # unreachable: the scene finds itself
+    return _canonical_index(config)[_key(scene_params(config, figure, scene))]
+
+
+_INDEX: dict[int, tuple[str, dict[str, tuple[str, str]]]] = {}
+_KEYS: dict[str, str] = {}
+
+
+def _canonical_index(config: dict[str, Any]) -> dict[str, tuple[str, str]]:
+    """Scene key -> the first (figure, scene) declaring it; rebuilt when the config's scenes change
+    (a DAG build asks for every scene's canonical run, so this is built once, not once per scene)."""
+    stamp = repr((config.get("scene_defaults"), [(f, config["figures"][f].get("defaults"),
+                                                   config["figures"][f].get("scenes")) for f in figures(config)]))
+    cached = _INDEX.get(id(config))
+    if cached is None or cached[0] != stamp:
+        index: dict[str, tuple[str, str]] = {}
+        for f in figures(config):
+            for s in scenes(config, f):
+                index.setdefault(_key(scene_params(config, f, s)), (f, s))
+        _INDEX[id(config)] = cached = (stamp, index)
+    return cached[1]
 
 
 def _key(params: dict[str, Any]) -> str:
-    try:
-        d = Scene.from_dict(params).to_dict()
-    except (SceneError, TypeError):
-        d = dict(params)
-    d.pop("name", None)
-    return repr(sorted(d.items()))
+    """The scene's parameters with defaults filled in, name aside, as text (memoised: building a
+    Scene validates it, which a DAG build would otherwise repeat for every scene it meets)."""
+    raw = dict(params)
+    raw.pop("name", None)
+    raw_key = repr(sorted(raw.items(), key=lambda kv: str(kv[0])))
+    if raw_key not in _KEYS:
+        try:
+            d = Scene.from_dict(dict(params)).to_dict()
+        except (SceneError, TypeError):
+            d = dict(params)
+        d.pop("name", None)
+        _KEYS[raw_key] = repr(sorted(d.items()))
+    return _KEYS[raw_key]
 
 
 def probe_path(figure: str, scene: str) -> str:
@@ -124,6 +145,76 @@ def figure_sims(config: dict[str, Any], figure: str) -> list[str]:
     if source == "path":
         return [path_file(figure, s) for s in scenes(config, figure)]
     return [sim_path(*canonical_scene(config, figure, s)) for s in scenes(config, figure)]
+
+
+def wanted_scene(config: dict[str, Any], figure: str, scene: str, shared: bool = True) -> dict[str, Any] | None:
+    """What the file of a scene must store (evidence.check_file): every Scene parameter, defaults
+    filled in, under the name of the run that makes the file (with ``shared``, a shared run's
+    first figure; without, the scene is the file's own run). None for a stability-map probe,
+    whose file records its raw input and how it ended."""
+    source = kinds.source(config["figures"][figure]["kind"])
+    if source == "probe":
+        return None
+    f, s = canonical_scene(config, figure, scene) if source == "simulate" and shared else (figure, scene)
+    params = scene_params(config, f, s)
+    try:
+        return Scene.from_dict(params).to_dict()
+    except (SceneError, TypeError):
+        return params
+
+
+def figure_wanted(config: dict[str, Any], figure: str) -> list[dict[str, Any] | None]:
+    """wanted_scene of each of a figure's scene files, in the order of figure_sims."""
+    return [wanted_scene(config, figure, s) for s in scenes(config, figure)]
+
+
+def rebuild_marker(figure: str, scene: str) -> Path:
+    """An empty file whose fresh mtime makes Snakemake rebuild a scene file that is not the
+    run the config asks for (see stale_inputs)."""
+    return RESULTS / ".rebuild" / figure / f"{scene}.stale"
+
+
+_CHECKED: dict[tuple, str | None] = {}
+
+
+def stale_inputs(config: dict[str, Any], figure: str, scene: str, path: str) -> list[str]:
+    """[marker] if the existing file ``path`` of this scene is unreadable or stores another scene
+    than the config's (a file copied over another, or built from another config after
+    Snakemake's metadata in .snakemake/ was lost), else []. The marker is touched now, so the
+    rule that makes the file sees an input newer than its output and rebuilds it (and so
+    everything downstream); a note names the file and the first differing parameter."""
+    from .evidence import EvidenceError, check_file
+
+    marker = rebuild_marker(figure, scene)
+    file = Path(path)
+    if not file.is_file():
+        return []
+    wanted = wanted_scene(config, figure, scene, shared=False)
+    if wanted is None:
+        return []
+    st = file.stat()
+    key = (str(file), st.st_mtime_ns, st.st_size, repr(sorted(wanted.items())))
+    if key not in _CHECKED:
+        try:
+            check_file(file, wanted)
+            _CHECKED[key] = None
+        except EvidenceError as e:
+            _CHECKED[key] = str(e).split(": it is not", 1)[0].split("; delete", 1)[0]
+            import sys
+
+            print(f"note: {_CHECKED[key]}: it will be rebuilt", file=sys.stderr)
+    if _CHECKED[key] is None:
+        if marker.exists():
+            marker.unlink()
+        return []
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    if not marker.exists() or marker.stat().st_mtime_ns <= st.st_mtime_ns:
+        marker.touch()
+        if marker.stat().st_mtime_ns <= st.st_mtime_ns:  # a file stamped in the future
+            import os
+
+            os.utime(marker, ns=(st.st_atime_ns, st.st_mtime_ns + 1_000_000_000))
+    return [str(marker)]
 
 
 def expand_sweeps(config: dict[str, Any]) -> None:
@@ -250,6 +341,11 @@ def claim_sims(config: dict[str, Any]) -> dict[str, str]:
     listed = claims.load(ROOT / paper["claims"])
     return {f"{f}/{s}": p for f in claims.sim_figures(listed)
             for s, p in zip(scenes(config, f), figure_sims(config, f))}
+
+
+def claim_wanted(config: dict[str, Any]) -> list[dict[str, Any] | None]:
+    """wanted_scene of each file of claim_sims, in its order."""
+    return [wanted_scene(config, *key.split("/", 1)) for key in claim_sims(config)]
 
 
 # -- reading and checking a config ---------------------------------------------------------

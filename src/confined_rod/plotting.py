@@ -66,9 +66,21 @@ def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:
     check_finite(ds, "plot")
     with plt.rc_context(STYLE):
         fig = module.plot(ds)
+        mark_unsettled(fig, ds)
         _save(fig, pdf)
         _save(fig, png)
         plt.close(fig)
+
+
+def mark_unsettled(fig, ds: xr.Dataset) -> None:
+    """A figure drawn from runs that are not at equilibrium says so in red across its foot."""
+    from .evidence import flagged
+
+    runs = flagged(ds.attrs.get("not_at_equilibrium"))
+    if runs:
+        shown = "; ".join(runs[:3]) + (f"; and {len(runs) - 3} more" if len(runs) > 3 else "")
+        fig.text(0.01, 0.005, f"not at equilibrium, no verdict on them: {shown}", color="red", fontsize=7,
+                 ha="left", va="bottom", wrap=True)
 
 
 def _save(fig, path) -> None:

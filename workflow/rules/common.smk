@@ -42,7 +42,8 @@ _PKG = Path(workflow.basedir) / "src" / "confined_rod"
 _FIGURES = _PKG / "figures"
 POSTPROCESS_SHARED = [
     str(_PKG / f)
-    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py", "regions.py", "torque.py")
+    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py", "regions.py", "torque.py",
+              "evidence.py")
 ] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
 STYLE_CODE = [str(_PKG / "plotting.py")]
 _NOT_SIMULATION = set(POSTPROCESS_SHARED + STYLE_CODE) | {
@@ -61,6 +62,21 @@ PATH_CODE = SIMULATION_CODE
 
 def scene_sims(wildcards):
     return pipeline.figure_sims(config, wildcards.figure)
+
+
+# A scene file that exists but is not the run the config asks for (unreadable, or another
+# scene's parameters: copied over, or built from another config after .snakemake/ was lost) is
+# rebuilt: its rule gets a freshly touched marker as input (pipeline.stale_inputs).
+def stale_sim(wildcards):
+    return pipeline.stale_inputs(
+        config, wildcards.figure, wildcards.scene, pipeline.sim_path(wildcards.figure, wildcards.scene)
+    )
+
+
+def stale_path(wildcards):
+    return pipeline.stale_inputs(
+        config, wildcards.figure, wildcards.scene, pipeline.path_file(wildcards.figure, wildcards.scene)
+    )
 
 
 def kind_code(wildcards):
@@ -114,7 +130,7 @@ PAPER = config.get("paper") or {}
 # the claims' measures read datasets through measure.py and ensembles.py, the pitch law
 # rebuilds the pitch profile of every seed of the same rod (figures/pitch_profile.py), and a
 # derivation is checked against the torque budget's forms (torque.py)
-CLAIMS_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py", "measure.py", "ensembles.py",
+CLAIMS_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py", "measure.py", "ensembles.py", "evidence.py",
                                        "figures/pitch_profile.py", "torque.py")]
 PAPER_CODE = CLAIMS_CODE + [str(_PKG / "paper.py")]
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles

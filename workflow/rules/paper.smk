@@ -18,6 +18,7 @@ rule claims:
     params:
         figures=lambda wildcards: pipeline.figures(config),
         sim_keys=lambda wildcards: list(pipeline.claim_sims(config)),
+        wanted=lambda wildcards: pipeline.claim_wanted(config),
     log:
         "results/logs/claims/claims.log",
     benchmark:

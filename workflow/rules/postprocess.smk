@@ -9,6 +9,7 @@ rule postprocess:
     params:
         figure_config=lambda wildcards: config["figures"][wildcards.figure],
         scenes=lambda wildcards: pipeline.scenes(config, wildcards.figure),
+        wanted=lambda wildcards: pipeline.figure_wanted(config, wildcards.figure),
         context=build_context,
         read=lambda wildcards: list(pipeline.read_figures(config, wildcards.figure)),
     log:

@@ -2,6 +2,7 @@ rule simulate:
     """Relax one scene to equilibrium and store its dataset (one netCDF per scene)."""
     input:
         code=SIMULATION_CODE,
+        stale=stale_sim,
     output:
         "results/sims/{figure}/{scene}.nc",
     params:
@@ -54,6 +55,7 @@ rule load_path:
     fresh at each load) or the thresholds by bisection; confined_rod.paths.run_spec."""
     input:
         code=PATH_CODE,
+        stale=stale_path,
     output:
         "results/paths/{figure}/{scene}.nc",
     params:

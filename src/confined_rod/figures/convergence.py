@@ -48,7 +48,7 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from .. import ensembles
+from .. import ensembles, evidence
 from .. import plotting as P
 from ..errors import ConfigError
 from ..io import variable
@@ -160,6 +160,17 @@ def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[flo
 
 
 def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
+    """The ladder's dataset and verdict; a rung with a run that is not at equilibrium decides
+    nothing: the verdict is then 'inconclusive: evidence not at equilibrium (...)'."""
+    ds = _build(fig_cfg, sims, context)
+    off = evidence.not_at_equilibrium(sims)
+    if off:
+        ds.attrs["status"] = ("inconclusive: evidence not at equilibrium (" + "; ".join(off[:4])
+                              + (f"; and {len(off) - 4} more" if len(off) > 4 else "") + ")")
+    return ds
+
+
+def _build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
     param = fig_cfg["parameter"]
     groups = ensembles.group(list(sims), {n: sims[n].attrs for n in sims}, (param,))
     if any(len(g) > 1 for g in groups):

@@ -1,0 +1,146 @@
+"""Is a stored run the evidence it claims to be?  Checks shared by the workflow's DAG
+construction, post-processing and the claims (datasets only; never the simulator).
+
+- :func:`check_file`: a scene file (``results/sims``, ``results/paths``) opens, and its stored
+  scene name and parameters equal the ones the config asks for. Snakemake's parameter trigger
+  relies on its metadata in ``.snakemake/``; this check relies only on the file, so a file
+  copied over another, or a tree built from another config whose metadata was lost, is
+  refused with one line naming the file and the first differing parameter.
+- :func:`not_at_equilibrium`: the runs of a set whose status is not ``converged`` (a step or
+  time cap, an escape), as ``"figure/scene (status)"``; figure datasets store them in their
+  ``not_at_equilibrium`` attribute, and no verdict, fit or convergence rung is decided on them.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from .io import netcdf_attr
+
+#: the value of a figure dataset's ``not_at_equilibrium`` attribute when every run converged
+NONE = "none"
+#: the status of a run at equilibrium (simulation.STATUS)
+EQUILIBRIUM = "converged"
+
+
+class EvidenceError(ValueError):
+    """A stored file is unreadable or is not the run the config asks for (one line)."""
+
+
+def _rebuild_hint(path: str | Path) -> str:
+    return (f"delete {path} or rerun with --forcerun (snakemake --forcerun simulate postprocess claims) "
+            "to rebuild it")
+
+
+def stored_attrs(path: str | Path) -> dict[str, Any]:
+    """The global attributes of a netCDF file, read without loading its variables; a file
+    that is missing, truncated or not netCDF gives one line saying how to rebuild it."""
+    import netCDF4
+
+    try:
+        with netCDF4.Dataset(str(path)) as nc:
+            return {k: nc.getncattr(k) for k in nc.ncattrs()}
+    except (OSError, RuntimeError, ValueError, KeyError) as e:
+        raise EvidenceError(f"{path}: cannot be read as netCDF ({type(e).__name__}: "
+                            f"{str(e).splitlines()[0] if str(e) else 'no detail'}); {_rebuild_hint(path)}") from None
+
+
+def _same(stored: Any, wanted: Any) -> bool:
+    wanted = netcdf_attr(wanted)
+    if isinstance(wanted, str) or isinstance(stored, str):
+        return str(stored) == str(wanted)
+    a, b = np.atleast_1d(np.asarray(stored, dtype=float)), np.atleast_1d(np.asarray(wanted, dtype=float))
+    if a.shape != b.shape:
+        return False
+    return bool(np.all((a == b) | np.isclose(a, b, rtol=1e-12, atol=0.0) | (np.isnan(a) & np.isnan(b))))
+
+
+def mismatch(stored: Mapping[str, Any], wanted: Mapping[str, Any]) -> str | None:
+    """The first parameter of ``wanted`` (the config's scene, ``name`` first) that the stored
+    attributes lack or hold with another value, as text; None if all agree."""
+    keys = ["name"] + sorted(k for k in wanted if k != "name")
+    for k in keys:
+        if k not in wanted:
+            continue
+        if k not in stored:
+            return f"has no attribute {k!r} (the config asks for {k} = {_show(wanted[k])})"
+        if not _same(stored[k], wanted[k]):
+            return f"holds {k} = {_show(stored[k])} but the config asks for {k} = {_show(wanted[k])}"
+    return None
+
+
+def _show(v: Any) -> str:
+    if isinstance(v, float) and math.isfinite(v):
+        return f"{v:.10g}"
+    if isinstance(v, np.ndarray):
+        return "[" + ", ".join(f"{x:.10g}" for x in v.ravel()) + "]"
+    return repr(v) if isinstance(v, str) else str(v)
+
+
+def check_file(path: str | Path, wanted: Mapping[str, Any]) -> None:
+    """Raise EvidenceError (one line) unless the file opens and stores the scene ``wanted``."""
+    diff = mismatch(stored_attrs(path), wanted)
+    if diff:
+        raise EvidenceError(f"{path} {diff}: it is not the run this config asks for (a file copied over "
+                            f"another, or built from another config); {_rebuild_hint(path)}")
+
+
+def check_dataset(ds, path: str | Path, wanted: Mapping[str, Any]) -> None:
+    """The same check on a dataset already loaded from ``path``."""
+    diff = mismatch(ds.attrs, wanted)
+    if diff:
+        raise EvidenceError(f"{path} {diff}: it is not the run this config asks for; {_rebuild_hint(path)}")
+
+
+def load(path: str | Path, wanted: Mapping[str, Any] | None = None):
+    """xarray.load_dataset with one-line errors for an unreadable file, checked against the
+    config's scene ``wanted`` when given."""
+    import xarray as xr
+
+    if wanted is not None:
+        check_file(path, wanted)
+    try:
+        ds = xr.load_dataset(path)
+    except (OSError, RuntimeError, ValueError, KeyError) as e:
+        raise EvidenceError(f"{path}: cannot be read ({type(e).__name__}: "
+                            f"{str(e).splitlines()[0] if str(e) else 'no detail'}); {_rebuild_hint(path)}") from None
+    return ds
+
+
+def status(ds) -> str:
+    """A run's status attribute; without one (a constructed dataset), its ``converged`` flag."""
+    if "status" in ds.attrs:
+        return str(ds.attrs["status"])
+    if "converged" in getattr(ds, "variables", {}):
+        return EQUILIBRIUM if int(ds["converged"]) == 1 else "not converged"
+    return "no status attribute"
+
+
+def not_at_equilibrium(sims: Mapping[str, Any]) -> list[str]:
+    """'scene (status)' of every run of ``sims`` (name -> dataset) that did not converge."""
+    return [f"{name} ({status(d)})" for name, d in sims.items() if status(d) != EQUILIBRIUM]
+
+
+def flagged(attr: str | None) -> list[str]:
+    """The runs a figure dataset's ``not_at_equilibrium`` attribute names (none: [])."""
+    if not attr or attr == NONE:
+        return []
+    return [p.strip() for p in str(attr).split(";") if p.strip()]
+
+
+def join(runs: Iterable[str]) -> str:
+    runs = list(runs)
+    return "; ".join(runs) if runs else NONE
+
+
+def warn(message: str) -> None:
+    """Print a warning to the job's log and to the terminal the build runs in (a workflow
+    script's stderr goes to its log file; sys.__stderr__ is the terminal's)."""
+    import sys
+
+    print(message, file=sys.stderr)
+    if sys.__stderr__ is not None and sys.stderr is not sys.__stderr__:
+        print(message, file=sys.__stderr__)
