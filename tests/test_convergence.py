@@ -36,9 +36,13 @@ def test_richardson_flags_non_monotone_and_non_geometric_ladders():
     assert "converged" in note and lim == 1.0 - 1e-6
 
 
-def ladder(F_of_h, turns=(2.0, 2.0, 2.0), pub=1.0, tol=0.05):
+def ladder(F_of_h, turns=(2.0, 2.0, 2.0), pub=1.0, tol=0.05, unsettled=None):
+    """A three-rung l0 ladder of constructed runs; ``unsettled``: the rung whose run ended at its
+    step cap."""
     hs = (1.0, 0.5, 0.25)
     sims = {f"r{i}": fake_sim(h, F_of_h(h), turns=t) for i, (h, t) in enumerate(zip(hs, turns))}
+    if unsettled:
+        sims[unsettled].attrs["status"] = "step_cap"
     cfg = {"parameter": "l0", "tolerance": tol}
     return studies.build(cfg, sims, {"publication_value": pub})
 
