@@ -118,6 +118,11 @@ borderline = st.fixed_dictionaries({
     "protocol": st.sampled_from(["straight", "planar", "planar_then_3d"]),
     "ends": st.sampled_from(["free", "pinned"]),
     "seed": st.integers(0, 3),
+    # a body force (sideways: the rod pressed on the wall; along z: its weight) and an open
+    # entrance below the rod's top (the part above rests on the block's top face)
+    "body_force": st.sampled_from([(0.0, 0.0, 0.0), (0.05, 0.0, 0.0), (0.0, 0.0, -0.02), (0.02, 0.01, 0.01)]),
+    "pore_fraction": st.sampled_from([None, 0.8]),          # pore_length / L
+    "lower_end": st.sampled_from(["held", "held", "free"]),
 })
 
 
@@ -137,8 +142,14 @@ def honest(ds, sc: Scene) -> None:
         # physics: at equilibrium the piston below carries the load plus the friction's pull
         # down (|F_z(L)| = load - sum f_z; a folded rod can pass on more than the load). Each
         # link's residual is below tol_eff l0 load/L, so the sum of N of them below tol_eff load.
+        # With a body force and an open entrance the block's top face and the body force join in;
+        # the dataset stores each, so the balance closes from it alone.
         F, f_z = float(ds.F_transmitted), float(ds.friction_z.sum())
-        assert abs(F - (sc.load - f_z)) <= 2 * ds.attrs["tol_effective"] * sc.load + 1e-12, (F, sc.load, f_z)
+        face, body = float(ds.face_force.sum()), float(ds.body_force_z)
+        scale = sc.load + float(np.abs(sc.body_force).sum()) * sc.L
+        assert abs(F - (sc.load - f_z - face - body)) <= 2 * ds.attrs["tol_effective"] * scale + 1e-12, \
+            (F, sc.load, f_z, face, body)
+        assert float(ds.axial_balance) == pytest.approx(sc.load - F - f_z - face - body, abs=1e-12)
     if violations:
         assert status == "model_violated" and not int(ds.converged)
 
@@ -146,6 +157,10 @@ def honest(ds, sc: Scene) -> None:
 @settings(max_examples=80)
 @given(borderline)
 def test_borderline_scenes_run_to_an_honest_outcome(params):
+    params = dict(params)
+    fraction = params.pop("pore_fraction")
+    if fraction:
+        params["pore_length"] = fraction * params["L"]
     try:
         sc = Scene.from_dict({**params, "t_max": 2000.0, "name": "fuzz"})
     except SceneError as exc:

@@ -267,3 +267,23 @@ def test_jamming_map_loads_that_round_to_one_name_are_refused():
     config["figures"]["jamming_map"]["grid"]["load"] = [0.1, 0.1001]     # distinct names: accepted
     names = pipeline.expand(config)["figures"]["jamming_map"]["scenes"]
     assert any("-F0p1-" in n for n in names) and any("-F0p1001-" in n for n in names)
+
+
+def test_code_inputs_follow_the_imports_and_never_reach_the_simulator():
+    """A kind's code inputs are the modules it imports, transitively: editing the helper that the
+    escape and transition kinds import from helix_views re-runs their figures too; the styling is
+    not an input of a step that makes data; and no analysis step depends on simulator code (the
+    import boundary, read from the source)."""
+    pkg = pipeline.PACKAGE
+    rel = lambda paths: {str(Path(p).relative_to(pkg)) for p in paths}  # noqa: E731
+    for kind in ("escape", "transition"):
+        assert "figures/helix_views.py" in rel(pipeline.code_closure(pkg / "figures" / f"{kind}.py"))
+    data = rel(pipeline.code_closure(pkg / "postprocess.py", pkg / "figures" / "escape.py",
+                                     skip=(pkg / "plotting.py",)))
+    assert "plotting.py" not in data and {"postprocess.py", "figures/escape.py", "measure.py"} <= data
+    simulator = {"scenes.py", "simulation.py", "observables.py", "stability.py", "paths.py"}
+    for module in [pkg / "postprocess.py", pkg / "plotting.py", pkg / "claims.py", pkg / "paper.py",
+                   *sorted((pkg / "figures").glob("*.py"))]:
+        reached = rel(pipeline.code_closure(module))
+        assert not (reached & simulator) and not any(r.startswith(("model/", "solvers/")) for r in reached), \
+            (module.name, sorted(reached & simulator))

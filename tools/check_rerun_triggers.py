@@ -38,6 +38,9 @@ PROBES = {
                                          {"simulate", "probe", "load_path", "convergence_check"}),
     PKG / "figures" / "convergence.py": ({"postprocess", "convergence_check", "figure"},
                                          {"simulate", "probe", "load_path"}),
+    # a helper shared by kinds: side_strip, imported by the transition and escape kinds
+    PKG / "figures" / "helix_views.py": ({"postprocess", "figure"},
+                                         {"simulate", "probe", "load_path", "convergence_check"}),
     PKG / "paths.py": ({"load_path"}, set()),
     # the manuscript: its generated parts and the claims re-run, never a simulation or a dataset
     PKG / "paper.py": ({"paper_sources", "paper"},
@@ -49,6 +52,8 @@ PROBES = {
 }
 # how many figures a one-kind edit may re-run at most (the kind's own figures, not all)
 ONE_KIND = {PKG / "figures" / "pitch_profile.py": 1, PKG / "figures" / "bifurcation.py": 1}
+# how many figures an edit must re-run at least (every kind that imports the module)
+SHARED = {PKG / "figures" / "helix_views.py": 3}
 
 
 def planned_rules(config: str) -> dict[str, int]:
@@ -80,6 +85,8 @@ def main(argv=None) -> int:
         ran = set(plan)
         ok = must <= ran and not (must_not & ran)
         if probe in ONE_KIND and plan.get("figure", 0) > ONE_KIND[probe]:
+            ok = False
+        if probe in SHARED and plan.get("figure", 0) < SHARED[probe]:
             ok = False
         failures += not ok
         print(f"{'ok  ' if ok else 'FAIL'} edit {probe.relative_to(ROOT)} -> would run {plan or 'nothing'}"

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .model import kernels as K
 from .model.forces import Workspace, evaluate
 from .scenes import Scene
 
@@ -32,6 +33,27 @@ class Observables:
     dphi_ds: np.ndarray
     L_z: float
     F_transmitted: float  # z force on the lower piston: support + floor contacts
+    face_force: np.ndarray  # (N,) z force of the block's top face around the entrance on the link
+    body_force_z: float  # z component of the body force on the whole rod
+
+
+def face_forces(par: np.ndarray, r: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """z force (>= 0) of the block's top face z = z_top on each link (rod order, from below): the
+    penalty k_w (z_top - z) on a link end below the face where the face is its nearest way out
+    of the block (kernels._face_point, the same rule as the wall_forces kernel, in numpy). It is
+    the one external force on the rod along z besides the load, the friction, the body force and
+    the lower piston, so with them it closes the axial balance."""
+    n = r.shape[0]
+    h = par[K.HALF]
+    out = np.zeros(n)
+    for sgn in (-1.0, 1.0):
+        p = r + sgn * h * t
+        dz = par[K.Z_TOP] - p[:, 2]
+        on_face = (dz >= 0.0) & (np.hypot(p[:, 0], p[:, 1]) - par[K.R_WALL] > dz)
+        if sgn > 0.0 and par[K.GUIDED] > 0.5:
+            on_face[n - 1] = False            # the guided loaded end is in its sleeve, not on the face
+        out += np.where(on_face, par[K.K_WALL] * dz, 0.0)
+    return out
 
 
 def axial_forces(scene: Scene, r: np.ndarray, t: np.ndarray, fz_support: float) -> np.ndarray:
@@ -76,6 +98,7 @@ def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
         friction_force=np.linalg.norm(Ff, axis=1), friction_z=Ff[:, 2], friction_phi=f_phi,
         stuck=ws.stuck[order].astype(np.int8), s_helix=s_helix, phi=phi, dphi_ds=dphi,
         L_z=L_z, F_transmitted=float(f_floor - F_z[-1]),
+        face_force=face_forces(par, r, t)[order], body_force_z=float(par[K.FZ] * scene.N),
     )
 
 

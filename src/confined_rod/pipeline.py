@@ -68,6 +68,66 @@ def built_scenes(config: dict[str, Any], figure: str) -> dict[str, Scene]:
     return {s: build_scene(config, figure, s) for s in scenes(config, figure)}
 
 
+# -- code dependencies -----------------------------------------------------------
+PACKAGE = Path(__file__).resolve().parent
+
+
+def _imported(path: Path) -> set[Path]:
+    """The package's modules that ``path`` imports (at module level or inside a function)."""
+    import ast
+
+    tree = ast.parse(path.read_text(), filename=str(path))
+    here = path.parent
+    found: set[Path] = set()
+
+    def add(base: Path, dotted: str) -> None:
+        target = base.joinpath(*dotted.split(".")) if dotted else base
+        for cand in (target.with_suffix(".py"), target / "__init__.py"):
+            if cand.is_file():
+                found.add(cand)
+                return
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = here
+                for _ in range(node.level - 1):
+                    base = base.parent
+            elif (node.module or "").split(".")[0] == PACKAGE.name:
+                base = PACKAGE.parent
+            else:
+                continue
+            module = node.module or ""
+            add(base, module)
+            for alias in node.names:                    # from . import x: x may be a module
+                add(base, f"{module}.{alias.name}" if module else alias.name)
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] == PACKAGE.name:
+                    add(PACKAGE.parent, alias.name)
+    return found
+
+
+def code_closure(*modules: str | Path, skip: tuple[str | Path, ...] = ()) -> list[str]:
+    """The package modules a step's code consists of: the given ones and, transitively, every
+    package module they import, so that Snakemake re-runs the step when any of them changes
+    (a figure kind's helper imported from another kind's module included). The package root
+    (``confined_rod/__init__.py``, the public API that re-exports the simulator) is not
+    followed: post-processing imports from it only the version string. ``skip``: modules not
+    followed either (the styling, for a step that makes data: a kind module's plot uses it, its
+    dataset builder does not)."""
+    stop = {PACKAGE / "__init__.py"} | {Path(m).resolve() for m in skip}
+    todo = [Path(m).resolve() for m in modules]
+    seen: set[Path] = set()
+    while todo:
+        m = todo.pop()
+        if m in seen or m in stop:
+            continue
+        seen.add(m)
+        todo += sorted(_imported(m) - seen)
+    return sorted(str(m) for m in seen)
+
+
 # -- file layout ----------------------------------------------------------------
 def sim_path(figure: str, scene: str) -> str:
     return str(RESULTS / "sims" / figure / f"{scene}.nc")

@@ -127,6 +127,12 @@ _Q = SCENE_PARAMETERS + [
     Quantity("contact", "", "link touches the wall (1) or not (0)", "1"),
     Quantity("friction_force", "f", "magnitude of the wall friction force on the link", "EI R-2"),
     Quantity("friction_z", "f_z", "axial component of the wall friction force on the link", "EI R-2"),
+    Quantity("face_force", "f_{top}", "z force of the block's top face around the pore entrance on the link "
+             "(a rod bent out of an open entrance rests on it)", "EI R-2"),
+    Quantity("body_force_z", "F_{body,z}", "z component of the body force on the whole rod (body_force_z L)",
+             "EI R-2"),
+    Quantity("axial_balance", r"\Delta F_z", "axial force balance of the rod: load - F_transmitted - sum f_z - sum "
+             "f_top - F_body,z (all z forces up positive; 0 at equilibrium, up to the residual)", "EI R-2"),
     Quantity("friction_phi", r"f_\varphi", "azimuthal component of the wall friction force on the link (along "
              "e_z x r: positive counter-clockwise seen from the loaded end's side, +z)", "EI R-2"),
     Quantity("stuck", "", "link in static friction (1) or sliding/free (0)", "1"),

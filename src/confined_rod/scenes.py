@@ -361,6 +361,9 @@ def _validate(s: Scene) -> None:
                          ("bending_constant", BENDING_CONSTANT)):
         if getattr(s, key) not in allowed:
             fail(key, f"must be one of {', '.join(allowed)}")
+    if s.lower_end == "free" and not s.floor:
+        fail("floor", "false with lower_end 'free': nothing holds the rod against the load (no support, "
+                      "no floor), so it drifts down without end; set floor: true or lower_end: held")
     bf = s.body_force
     if (not isinstance(bf, (list, tuple)) or len(bf) != 3
             or any(isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) for v in bf)):

@@ -78,6 +78,10 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         "dphi_ds": variable(("helix",), o.dphi_ds, "dphi_ds"),
         "L_z": variable((), o.L_z, "L_z"),
         "F_transmitted": variable((), o.F_transmitted, "F_transmitted"),
+        "face_force": variable(("link",), o.face_force, "face_force"),
+        "body_force_z": variable((), o.body_force_z, "body_force_z"),
+        "axial_balance": variable((), scene.load - o.F_transmitted - float(o.friction_z.sum())
+                                  - float(o.face_force.sum()) - o.body_force_z, "axial_balance"),
         "converged": variable((), np.int8(st.converged), "converged"),
         "escaped": variable((), np.int8(st.escaped), "escaped"),
         "status": variable((), np.int8(STATUS.index(status)), "status"),

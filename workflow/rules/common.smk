@@ -35,18 +35,20 @@ ALL_TARGETS = pipeline.expected_outputs(config)
 
 # Code each step depends on, so that Snakemake's mtime trigger re-runs a step when
 # its code changes: a change to the physics re-runs the simulations; a change to a
-# figure kind's module (dataset builder and plot) re-runs that kind's datasets and
-# figures; a change to the shared post-processing re-runs every dataset; a change to
-# the shared styling only the figures. Post-processing never imports the simulator.
+# figure kind's module (dataset builder and plot), or to any package module it imports
+# (pipeline.code_closure: derived from the imports, a helper shared by two kinds
+# included), re-runs that kind's datasets and figures; a change to the shared styling
+# only the figures. Post-processing never imports the simulator.
 _PKG = Path(workflow.basedir) / "src" / "confined_rod"
 _FIGURES = _PKG / "figures"
-POSTPROCESS_SHARED = [
+STYLE = _PKG / "plotting.py"
+# the analysis side, for the simulation's exclusions below (issue: make this a subpackage)
+_ANALYSIS = [
     str(_PKG / f)
     for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py", "regions.py", "torque.py",
               "evidence.py")
 ] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
-STYLE_CODE = [str(_PKG / "plotting.py")]
-_NOT_SIMULATION = set(POSTPROCESS_SHARED + STYLE_CODE) | {
+_NOT_SIMULATION = set(_ANALYSIS) | {str(STYLE)} | {
     str(_PKG / f) for f in ("pipeline.py", "cli.py", "__main__.py", "config_schema.py",
                             "claims.py", "derivations.py", "paper.py")
 }
@@ -79,17 +81,18 @@ def stale_path(wildcards):
     )
 
 
-def kind_code(wildcards):
-    """The module of this figure's kind."""
-    return [str(pipeline.kinds.module_path(config["figures"][wildcards.figure]["kind"]))]
+def kind_module(wildcards):
+    return pipeline.kinds.module_path(config["figures"][wildcards.figure]["kind"])
 
 
 def postprocess_code(wildcards):
-    return POSTPROCESS_SHARED + kind_code(wildcards)
+    """postprocess.py, the kind's module and every package module they import (not the styling)."""
+    return pipeline.code_closure(_PKG / "postprocess.py", kind_module(wildcards), skip=(STYLE,))
 
 
 def figure_code(wildcards):
-    return STYLE_CODE + kind_code(wildcards)
+    """The styling, the kind's module and every package module they import."""
+    return pipeline.code_closure(STYLE, kind_module(wildcards))
 
 
 def read_datasets(wildcards):
@@ -127,12 +130,10 @@ def path_priority(wildcards):
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
 PAPER = config.get("paper") or {}
-# the claims' measures read datasets through measure.py and ensembles.py, the pitch law
-# rebuilds the pitch profile of every seed of the same rod (figures/pitch_profile.py), and a
-# derivation is checked against the torque budget's forms (torque.py)
-CLAIMS_CODE = [str(_PKG / f) for f in ("claims.py", "derivations.py", "measure.py", "ensembles.py", "evidence.py",
-                                       "figures/pitch_profile.py", "torque.py")]
-PAPER_CODE = CLAIMS_CODE + [str(_PKG / "paper.py")]
+# the claims and the manuscript: their modules and every package module they import (the
+# measures, the pitch profile the pitch law rebuilds per seed, the torque budget's forms)
+CLAIMS_CODE = pipeline.code_closure(_PKG / "claims.py", _PKG / "derivations.py", skip=(STYLE,))
+PAPER_CODE = pipeline.code_closure(_PKG / "paper.py", _PKG / "claims.py", _PKG / "derivations.py", skip=(STYLE,))
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
                else "config/config.yaml")
 

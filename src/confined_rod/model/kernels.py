@@ -164,18 +164,20 @@ def boundary_forces(r, t, par, Fm, Fp):
 @njit(cache=True)
 def floor_forces(r, t, par, Fm, Fp):
     """Lower piston: one-sided penalty (k_w/2) z^2 for link ends below z = 0, except
-    the lower end itself (held by the support). Returns (energy, total z force
-    of the floor on the rod)."""
+    the lower end itself when the support holds it (lower_end 'held': its spring sets
+    its z); a free lower end rests on the floor like every other link end. Returns
+    (energy, total z force of the floor on the rod)."""
     if par[FLOOR] < 0.5:
         return 0.0, 0.0
     h = par[HALF]
     kw = par[K_WALL]
+    first = 1 if par[LOWER_HELD] > 0.5 else 0
     e = 0.0
     ftot = 0.0
     for i in range(r.shape[0]):
         zm = r[i, 2] - h * t[i, 2]
         zp = r[i, 2] + h * t[i, 2]
-        if zm < 0.0 and i > 0:
+        if zm < 0.0 and i >= first:
             Fm[i, 2] -= kw * zm
             ftot -= kw * zm
             e += 0.5 * kw * zm * zm

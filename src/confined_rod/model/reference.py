@@ -28,7 +28,8 @@ def total_energy(r: np.ndarray, t: np.ndarray, par: np.ndarray) -> float:
         depth[-1] = max(radial[-1], 0.0)
     e += 0.5 * par[K.K_WALL] * np.sum(depth**2)
     if par[K.FLOOR] > 0.5:
-        zs = np.concatenate([rm[1:, 2], rp[:, 2]])
+        # the lower end is exempt only when the support holds it (its spring sets its z)
+        zs = np.concatenate([rm[1:, 2] if par[K.LOWER_HELD] > 0.5 else rm[:, 2], rp[:, 2]])
         e += 0.5 * par[K.K_WALL] * np.sum(np.minimum(zs, 0.0) ** 2)
     e += par[K.LOAD] * rp[-1, 2]
     ks = par[K.K_SUP]

@@ -370,7 +370,7 @@ def contact_hessian(r, t, frame, e1, e2, par, ab):
                 gp[1] = kw * d * ny
                 gp[2] = 0.0
                 _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
-            if par[K.FLOOR] > 0.5 and pz < 0.0 and not (i == 0 and s < 0.0):
+            if par[K.FLOOR] > 0.5 and pz < 0.0 and not (i == 0 and s < 0.0 and par[K.LOWER_HELD] > 0.5):
                 hp[:, :] = 0.0
                 hp[2, 2] = kw
                 gp[0] = 0.0

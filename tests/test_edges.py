@@ -1,0 +1,50 @@
+"""The model at its edges: a free lower end on the floor, nothing holding the rod, and the
+axial force balance with a body force and an open entrance (every external force stored)."""
+import numpy as np
+import pytest
+
+from confined_rod import Scene, simulate
+from confined_rod.errors import SceneError
+
+
+def _lowest_end(ds, l0):
+    """z of the lowest link end: the last link in the dataset's order (from the loaded end)."""
+    return float(ds.z.values[-1] - 0.5 * l0 * abs(ds.tz.values[-1]))
+
+
+def test_a_free_lower_end_rests_on_the_floor():
+    """lower_end 'free' with the floor: the lowest end is a link end like any other, held by
+    the floor's penalty, so it sits at most a few F/k_w below z = 0 (before the fix it was exempt
+    and sank 0.44-0.48 R, and the run blamed k_w). The rod then carries the load to the floor:
+    F_transmitted = load - sum f_z."""
+    sc = Scene(name="free", L=20, load=0.25, k_fr=0.3, lower_end="free", l0=1.0, tol=1e-5)
+    ds = simulate(sc, progress=False)
+    assert ds.attrs["status"] == "converged", ds.attrs["status_reason"]
+    z_end = _lowest_end(ds, sc.l0)
+    assert -3 * sc.load / sc.k_w <= z_end <= 1e-3, z_end       # within the penalty's overlap F/k_w
+    assert float(ds.F_transmitted) == pytest.approx(sc.load - float(ds.friction_z.sum()), abs=1e-4)
+
+
+def test_a_free_lower_end_without_a_floor_is_refused():
+    with pytest.raises(SceneError, match=r"'floor': False .*lower_end 'free'.*floor: true or lower_end: held"):
+        Scene(name="x", lower_end="free", floor=False)
+    Scene(name="x", lower_end="held", floor=False)                # the support holds it
+
+
+def test_the_axial_balance_closes_from_the_dataset_with_a_body_force_and_an_open_entrance():
+    """A sideways body force bends the part of the rod above an open entrance over the rim onto
+    the block's top face: that face carries most of the load (the case where F_transmitted was
+    0.198 while load - sum f_z was far larger, the difference in no variable). face_force stores
+    it, and load = F_transmitted + sum f_z + sum f_top + F_body,z to the residual."""
+    sc = Scene(name="b", L=20, load=0.25, k_fr=0.3, l0=1.0, tol=1e-5, body_force=[0.5, 0.0, 0.0])
+    ds = simulate(sc, progress=False)
+    face = float(ds.face_force.sum())
+    assert face > 0.5 * sc.load                                      # the top face carries a real share
+    total = float(ds.F_transmitted) + float(ds.friction_z.sum()) + face + float(ds.body_force_z)
+    assert total == pytest.approx(sc.load, abs=1e-4)
+    assert abs(float(ds.axial_balance)) < 1e-4
+    down = Scene(name="w", L=20, load=0.25, k_fr=0.3, l0=1.0, tol=1e-5, body_force=[0.0, 0.0, -0.01])
+    dw = simulate(down, progress=False)
+    assert float(dw.body_force_z) == pytest.approx(-0.01 * down.L)  # its weight: 0.2 EI/R^2 down
+    assert float(dw.F_transmitted) + float(dw.friction_z.sum()) - 0.2 == pytest.approx(down.load, abs=1e-4)
+    assert np.all(dw.face_force.values == 0.0)                      # closed entrance: no face force
