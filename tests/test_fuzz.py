@@ -17,6 +17,7 @@ import io
 import math
 import os
 import re
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -391,3 +392,84 @@ def test_costly_scenes_are_named_at_start_up():
     assert [(f, s) for f, s, _ in costly] == [("fig6_FonL", f"L10-s{i}") for i in range(3)]
     # explicit, L/R = 320, l0 = 0.5 R: 7 min at L/R = 80, growing as L^2.5 -> about 3.7 h
     assert 2 * 3600 < costly[0][2] < 6 * 3600
+
+
+@pytest.mark.parametrize("args, key", [(["--R", "0"], "R"), (["--R", "nan"], "R"), (["--R", "-1"], "R"),
+                                       (["--R", "1e40"], "R"), (["--EI", "-3"], "EI")])
+def test_show_defaults_refuses_a_bad_unit_in_one_line(args, key):
+    code, err = run_cli(["show-defaults", *args])
+    assert code == 2 and one_line(err.strip()) and f"'{key}'" in err and f"--{key}" in err
+
+
+def test_schema_to_a_directory_or_a_read_only_place_writes_nothing(tmp_path):
+    folder = tmp_path / "d"
+    folder.mkdir()
+    code, err = run_cli(["schema", "-o", str(folder)])
+    assert code == 2 and one_line(err.strip()) and "is a directory" in err
+    assert leftovers(tmp_path) == [] and list(folder.iterdir()) == []
+    if os.geteuid() != 0:                                   # root writes anywhere
+        ro = tmp_path / "ro"
+        ro.mkdir(mode=0o500)
+        code, err = run_cli(["schema", "-o", str(ro / "s.yaml")])
+        assert code == 2 and one_line(err.strip()) and leftovers(ro) == []
+
+
+def _scene_file(tmp_path, **kw) -> Path:
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump({"name": "cli", **kw}))
+    return path
+
+
+def test_a_full_disk_keeps_the_exit_code_and_prints_the_result(tmp_path, monkeypatch):
+    """write_dataset fails with ENOSPC after the run: exit 2 (an output that cannot be written), one
+    line that names the file and gives the result, so the computation is not lost silently."""
+    import errno
+
+    from confined_rod import io as cr_io
+
+    def full(ds, path):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(cr_io, "write_dataset", full)
+    out = tmp_path / "o.nc"
+    code, err = run_cli(["run", str(_scene_file(tmp_path, L=6, l0=1.0, load=0.5)), "-o", str(out), "-q"])
+    assert code == 2 and one_line(err.strip()), err
+    assert "No space left on device" in err and str(out) in err and "F_transmitted = " in err
+    assert not out.exists() and leftovers(tmp_path) == []
+
+
+def test_the_summary_prints_the_signed_force_with_its_name(tmp_path):
+    """A body force up of 0.1 EI/R^3 on 6 R (0.6 EI/R^2) beats the load 0.25: the held lower end
+    pulls the rod down, F_transmitted = 0.25 - 0.6 = -0.35, printed as the signed force by name
+    (it used to read '|F_z(L)| = -0.35', a negative magnitude)."""
+    import xarray as xr
+
+    out = tmp_path / "o.nc"
+    scene = _scene_file(tmp_path, L=6, l0=1.0, load=0.25, k_fr=0.0, body_force=[0.0, 0.0, 0.1])
+    code, err = run_cli(["run", str(scene), "-o", str(out), "-q"])
+    with xr.open_dataset(out) as ds:
+        F = float(ds.F_transmitted)
+    assert code == 0 and F == pytest.approx(-0.35, abs=1e-4)
+    assert f"F_transmitted = {F:.6g} (axial force on the lower support; negative: a pull)" in err
+    assert "|F_z(L)|" not in err
+
+
+def test_sigterm_ends_a_run_like_ctrl_c(tmp_path):
+    """SIGTERM (a scheduler's kill) during a run: the same message as SIGINT, exit 130, no file."""
+    import signal
+    import subprocess
+    import time
+
+    out = tmp_path / "o.nc"
+    scene = _scene_file(tmp_path, L=400, k_fr=0.8, load=0.25)
+    proc = subprocess.Popen([sys.executable, "-m", "confined_rod", "run", str(scene), "-o", str(out)],
+                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+    deadline = time.time() + 60
+    line = ""
+    while time.time() < deadline and "%" not in line:      # the first progress line: the run is under way
+        line = proc.stderr.readline()
+    proc.send_signal(signal.SIGTERM)
+    err = line + proc.stderr.read()
+    assert proc.wait(timeout=60) == 130, err
+    assert f"interrupted: nothing written to {out}" in err and "Traceback" not in err
+    assert not out.exists() and leftovers(tmp_path) == []

@@ -53,9 +53,15 @@ def main(argv: list[str] | None = None) -> int:
                 return 1
             return 0
         if args.output:
-            from .io import write_text
+            from .io import check_output_path, write_text
 
-            write_text(text, args.output)
+            try:
+                check_output_path(args.output)          # a directory or a read-only place: one line, nothing written
+                write_text(text, args.output)
+            except (OutputPathError, OSError) as exc:
+                print(f"error: {exc if isinstance(exc, OutputPathError) else _os_error(args.output, exc)}",
+                      file=sys.stderr)
+                return 2
         else:
             print(text, end="")
         return 0
@@ -68,9 +74,22 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "show-defaults":
         import yaml
 
-        print(yaml.safe_dump(Scene(R=args.R, EI=args.EI).to_dict(), sort_keys=False), end="")
+        try:
+            defaults = Scene(R=args.R, EI=args.EI).to_dict()
+        except SceneError as exc:
+            print(f"error: {str(exc).replace('scene ' + repr('scene') + ': ', '')} (--{_flag(exc)})", file=sys.stderr)
+            return 2
+        print(yaml.safe_dump(defaults, sort_keys=False), end="")
         return 0
     return run(args)
+
+
+def _flag(exc: SceneError) -> str:
+    return "EI" if "'EI'" in str(exc) else "R"
+
+
+def _os_error(path: Path, exc: OSError) -> str:
+    return f"cannot write {str(path)!r} ({exc.strerror or type(exc).__name__})"
 
 
 def check_config(path: Path) -> int:
@@ -111,24 +130,38 @@ def run(args: argparse.Namespace) -> int:
                       f"solver) exceeds the budget of {budget:g} s; pass --budget {10 ** len(str(int(cost)))} "
                       "to run it anyway")
 
+    # SIGTERM (a scheduler's or kill's) ends the run as Ctrl-C does: nothing written, exit 130
+    import signal
+
     from .io import write_dataset
     from .simulation import simulate
 
+    def terminated(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, terminated)
     try:
-        ds = simulate(scene, progress=not args.quiet)
-    except DivergenceError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 3
-    except ResourceLimitError as exc:
-        return refuse(str(exc))
+        try:
+            ds = simulate(scene, progress=not args.quiet)
+        except DivergenceError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 3
+        except ResourceLimitError as exc:
+            return refuse(str(exc))
+        status = ds.attrs["status"]
+        summary = (f"{scene.name}: {status.replace('_', ' ')} ({ds.attrs['status_reason']}); "
+                   f"F_transmitted = {float(ds.F_transmitted):.6g} (axial force on the lower support; negative: "
+                   f"a pull), L_z = {float(ds.L_z):.6g}, {int(ds.n_steps)} steps, {float(ds.wall_time):.1f} s")
+        try:
+            write_dataset(ds, args.output)
+        except OSError as exc:                  # a full disk, a folder removed meanwhile: the result is lost
+            return refuse(f"{_os_error(args.output, exc)}; nothing written. The run gave: {summary}")
     except KeyboardInterrupt:
         print(f"interrupted: nothing written to {args.output}", file=sys.stderr)
         return 130
-    write_dataset(ds, args.output)
-    status = ds.attrs["status"]
-    print(f"{scene.name}: {status.replace('_', ' ')} ({ds.attrs['status_reason']}); "
-          f"|F_z(L)| = {float(ds.F_transmitted):.6g}, L_z = {float(ds.L_z):.6g}, {int(ds.n_steps)} steps, "
-          f"{float(ds.wall_time):.1f} s -> {args.output}", file=sys.stderr)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    print(f"{summary} -> {args.output}", file=sys.stderr)
     return 0 if status in ("converged", "escaped") else 4
 
 

@@ -12,5 +12,5 @@ with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
         raise RuntimeError(f"scene {scene.name!r}: the final state violates the model: {ds.attrs['status_reason']}")
     write_dataset(ds, snakemake.output[0])  # noqa: F821
     print(f"{scene.name}: {ds.attrs['status']} ({ds.attrs['status_reason']}) "
-          f"|F_z(L)|={float(ds.F_transmitted):.6g} L_z={float(ds.L_z):.6g} t={float(ds.t_final):.6g} "
+          f"F_transmitted={float(ds.F_transmitted):.6g} L_z={float(ds.L_z):.6g} t={float(ds.t_final):.6g} "
           f"steps={int(ds.n_steps)} wall={float(ds.wall_time):.1f} s")
