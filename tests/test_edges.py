@@ -48,3 +48,24 @@ def test_the_axial_balance_closes_from_the_dataset_with_a_body_force_and_an_open
     assert float(dw.body_force_z) == pytest.approx(-0.01 * down.L)  # its weight: 0.2 EI/R^2 down
     assert float(dw.F_transmitted) + float(dw.friction_z.sum()) - 0.2 == pytest.approx(down.load, abs=1e-4)
     assert np.all(dw.face_force.values == 0.0)                      # closed entrance: no face force
+
+
+@pytest.mark.parametrize("kw, flag", [
+    # pinned ends at 1.2 x Euler's load: the residual test stops on the straight rod
+    (dict(ends="pinned", load=1.2 * np.pi**2 / 400, k_fr=0.0), 1),
+    # planar_then_3d with a kick of 1e-9 R: the planar state above the second threshold
+    (dict(protocol="planar_then_3d", kick=1e-9, load=0.25, k_fr=0.0, l0=1.0, tol=1e-5), 2),
+    # the paper's start at the paper's load: a helix on the wall, no saddle
+    (dict(load=0.25, k_fr=0.8, l0=1.0, tol=1e-5), 0),
+])
+def test_a_run_that_stops_on_a_known_saddle_says_so(kw, flag):
+    """The dataset flags a converged state that is a known saddle, and the evidence check then
+    names it (claims and figures need the stable, buckled state: evidence.status)."""
+    from confined_rod import evidence, observables
+
+    ds = simulate(Scene(name="s", L=20, **kw), progress=False)
+    assert ds.attrs["status"] == "converged" and int(ds.saddle) == flag
+    assert ds.saddle.attrs["flag_meanings"].split()[flag] == observables.SADDLES[flag]
+    assert (evidence.status(ds) == "converged") == (flag == 0)
+    if flag:
+        assert evidence.not_at_equilibrium({"s": ds}) == [f"s ({evidence.SADDLE_STATUS[flag]})"]

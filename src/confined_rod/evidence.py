@@ -110,9 +110,19 @@ def load(path: str | Path, wanted: Mapping[str, Any] | None = None):
     return ds
 
 
+#: what a run's ``saddle`` flag means, as its status here (observables.SADDLES)
+SADDLE_STATUS = {1: "converged on a saddle: straight above Euler's load",
+                 2: "converged on a saddle: planar above the second threshold"}
+
+
 def status(ds) -> str:
-    """A run's status attribute; without one (a constructed dataset), its ``converged`` flag."""
+    """A run's status attribute, or the saddle it converged on (a residual test cannot tell an
+    unstable equilibrium from a stable one; the claims and figures need the stable, buckled
+    state); without a status (a constructed dataset), its ``converged`` flag."""
     if "status" in ds.attrs:
+        flag = int(ds["saddle"]) if "saddle" in getattr(ds, "variables", {}) else 0
+        if ds.attrs["status"] == EQUILIBRIUM and flag:
+            return SADDLE_STATUS.get(flag, f"converged on saddle {flag}")
         return str(ds.attrs["status"])
     if "converged" in getattr(ds, "variables", {}):
         return EQUILIBRIUM if int(ds["converged"]) == 1 else "not converged"

@@ -120,3 +120,28 @@ def shape_measures(r: np.ndarray, R: float) -> tuple[float, float]:
     sv = np.linalg.svd(centred, compute_uv=False)
     out_of_plane = float(sv[-1] / np.sqrt(r.shape[0])) / R if r.shape[0] >= 3 else 0.0
     return deflection, out_of_plane
+
+
+#: a final state's known saddles (docs/model.md, "Caveat: saddles"), for the ``saddle`` flag
+SADDLES = ("none", "straight_above_euler", "planar_above_second_threshold")
+#: a rod is straight when no link centre is this far (R) from the line through its end centres
+#: (the start's perturbation is 1e-3 R; a rod on the wall is deflected by about R), and planar
+#: when its rms distance from its best plane is below PLANAR_R (a helix: about R)
+STRAIGHT_R = 0.05
+PLANAR_R = 0.01
+
+
+def saddle(scene: Scene, r: np.ndarray) -> int:
+    """Index in SADDLES of the known unstable equilibrium a state sits on: straight above the
+    (discrete, diagonal) Euler load, or planar and frictionless above the second threshold
+    4 pi^2 EI/L^2 (with friction a planar state on the wall can be held); 0 otherwise. A residual
+    test cannot tell a saddle from a stable state, so a run can stop on one."""
+    from . import theory
+
+    deflection, out_of_plane = shape_measures(r, scene.R)
+    if deflection < STRAIGHT_R and scene.load > theory.first_threshold(scene.L, scene.R, scene.l0, scene.EI):
+        return 1
+    if (scene.k_fr == 0.0 and deflection >= STRAIGHT_R and out_of_plane < PLANAR_R
+            and scene.load > theory.second_threshold_estimate(scene.L, scene.EI)):
+        return 2
+    return 0

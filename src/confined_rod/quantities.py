@@ -127,6 +127,8 @@ _Q = SCENE_PARAMETERS + [
     Quantity("contact", "", "link touches the wall (1) or not (0)", "1"),
     Quantity("friction_force", "f", "magnitude of the wall friction force on the link", "EI R-2"),
     Quantity("friction_z", "f_z", "axial component of the wall friction force on the link", "EI R-2"),
+    Quantity("saddle", "", "the converged state is a known saddle (unstable equilibrium): straight above Euler's "
+             "load, or planar and frictionless above the second threshold", "1"),
     Quantity("face_force", "f_{top}", "z force of the block's top face around the pore entrance on the link "
              "(a rod bent out of an open entrance rests on it)", "EI R-2"),
     Quantity("body_force_z", "F_{body,z}", "z component of the body force on the whole rod (body_force_z L)",

@@ -83,6 +83,7 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         "axial_balance": variable((), scene.load - o.F_transmitted - float(o.friction_z.sum())
                                   - float(o.face_force.sum()) - o.body_force_z, "axial_balance"),
         "converged": variable((), np.int8(st.converged), "converged"),
+        "saddle": variable((), np.int8(obs.saddle(scene, o.r) if st.converged and not violations else 0), "saddle"),
         "escaped": variable((), np.int8(st.escaped), "escaped"),
         "status": variable((), np.int8(STATUS.index(status)), "status"),
         "residual_force": variable((), st.eps_F, "residual_force"),
@@ -102,6 +103,8 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     for flag in ("contact", "stuck", "converged", "escaped"):
         data[flag].attrs["flag_values"] = np.array([0, 1], dtype=np.int8)
         data[flag].attrs["flag_meanings"] = "false true"
+    data["saddle"].attrs["flag_values"] = np.arange(len(obs.SADDLES), dtype=np.int8)
+    data["saddle"].attrs["flag_meanings"] = " ".join(obs.SADDLES)
     data["status"].attrs["flag_values"] = np.arange(len(STATUS), dtype=np.int8)
     data["status"].attrs["flag_meanings"] = " ".join(STATUS)
     data["status"].attrs["reason"] = reason

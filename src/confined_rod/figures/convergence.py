@@ -160,17 +160,41 @@ def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[flo
 
 
 def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
-    """The ladder's dataset and verdict; a rung with a run that is not at equilibrium decides
-    nothing: the verdict is then 'inconclusive: evidence not at equilibrium (...)'."""
+    """The ladder's dataset and verdict, never decided on a run that is not at a stable
+    equilibrium (a step or time cap, an escape, a known saddle: evidence.status). In a ladder of
+    seed ensembles such runs are left out (a paired ladder leaves out the seed at every rung) and
+    named in ``left_out``; if a rung is left with fewer than two runs, or the ladder has one run
+    per rung, the verdict is 'inconclusive: evidence not at equilibrium (...)'."""
+    off = [n for n, d in sims.items() if evidence.status(d) != evidence.EQUILIBRIUM]
+    if not off:
+        return _build(fig_cfg, sims, context)
+    named = [f"{n} ({evidence.status(sims[n])})" for n in off]
+    drop = set(off)
+    if fig_cfg.get("paired"):
+        seeds = {int(sims[n].attrs.get("seed", 0)) for n in off}
+        drop |= {n for n, d in sims.items() if int(d.attrs.get("seed", 0)) in seeds}
+    kept = {n: d for n, d in sims.items() if n not in drop}
+    groups = ensembles.group(list(sims), {n: sims[n].attrs for n in sims}, (fig_cfg["parameter"],))
+    if all(len(g) > 1 for g in groups) and all(sum(n in kept for n in g) >= 2 for g in groups):
+        ds = _build(fig_cfg, kept, context)
+        ds.attrs["left_out"] = "; ".join(named) + (f" (paired: seed{'s' if len(drop) > len(off) else ''} left "
+                                                   "out at every rung)" if fig_cfg.get("paired") else "")
+        ds.attrs["notes"] = f"{ds.attrs['notes']}; left out, not at a stable equilibrium: {ds.attrs['left_out']}"
+        return ds
     ds = _build(fig_cfg, sims, context)
-    off = evidence.not_at_equilibrium(sims)
-    if off:
-        ds.attrs["status"] = ("inconclusive: evidence not at equilibrium (" + "; ".join(off[:4])
-                              + (f"; and {len(off) - 4} more" if len(off) > 4 else "") + ")")
+    ds.attrs["status"] = ("inconclusive: evidence not at equilibrium (" + "; ".join(named[:4])
+                          + (f"; and {len(named) - 4} more" if len(named) > 4 else "") + ")")
+    ds.attrs["left_out"] = "none"
     return ds
 
 
 def _build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
+    ds = _ladder(fig_cfg, sims, context)
+    ds.attrs.setdefault("left_out", "none")
+    return ds
+
+
+def _ladder(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
     param = fig_cfg["parameter"]
     groups = ensembles.group(list(sims), {n: sims[n].attrs for n in sims}, (param,))
     if any(len(g) > 1 for g in groups):
