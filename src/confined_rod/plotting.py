@@ -8,6 +8,7 @@ labels and parameter symbols come from :mod:`confined_rod.quantities`.
 from __future__ import annotations
 
 import os
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -79,8 +80,12 @@ def mark_unsettled(fig, ds: xr.Dataset) -> None:
     runs = flagged(ds.attrs.get("not_at_equilibrium"))
     if runs:
         shown = "; ".join(runs[:3]) + (f"; and {len(runs) - 3} more" if len(runs) > 3 else "")
-        fig.text(0.01, 0.005, f"not at equilibrium, no verdict on them: {shown}", color="red", fontsize=7,
-                 ha="left", va="bottom", wrap=True)
+        # below everything else (the saved figure's tight bounding box takes it in)
+        lowest = min([ax.get_tightbbox(fig.canvas.get_renderer()).transformed(fig.transFigure.inverted()).y0
+                      for ax in fig.axes] + [0.0])
+        fig.text(0.01, lowest - 0.01, "\n".join(textwrap.wrap(f"not at a stable equilibrium, no verdict on them: "
+                                                               f"{shown}", 110)),
+                 color="red", fontsize=7, ha="left", va="top")
 
 
 def _save(fig, path) -> None:
