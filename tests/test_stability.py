@@ -45,3 +45,51 @@ def test_sweeps_expand_to_one_scene_per_point_and_solver():
     assert st["implicit-k_ph-0p3"] == "invalid"  # refused: bonds would tear (k_ph too small for the load)
     assert set(ds.parameter.values) == {"base", "dt_factor", "dx_max", "k_ph"}
     assert np.all(np.isfinite(ds.F_transmitted.values))
+
+
+def _probe(status, F, shape=None, n=40):
+    """A constructed probe: its status, |F_z(L)| and (if it gave a force) a final shape: 'helix'
+    (two turns on the wall) or 'straight' (on the axis)."""
+    import xarray as xr
+
+    s = (np.arange(n) + 0.5) * 0.5
+    ds = xr.Dataset({"status": ((), np.int8(STATUS.index(status))), "F_transmitted": ((), F),
+                     "has_force": ((), np.int8(shape is not None)), "wall_time": ((), 1.0), "n_steps": ((), 10)},
+                    attrs={"message": status})
+    ds["status"].attrs["flag_meanings"] = " ".join(STATUS)
+    if shape is not None:
+        phi = np.linspace(0, 4 * np.pi, n) if shape == "helix" else np.zeros(n)
+        rho = 0.9 if shape == "helix" else 0.0
+        ds = ds.assign(x=("link", rho * np.cos(phi)), y=("link", rho * np.sin(phi)), z=("link", s[::-1].copy()))
+        ds = ds.assign_coords(s_link=("link", s))
+        ds.attrs["R"] = 1.0
+    return ds
+
+
+def test_the_map_classifies_each_point_by_its_physics_as_well_as_its_status():
+    """The tol = 0.1 probe that stops on the unbuckled rod (|F_z(L)| = 0.247 of 0.25) and the
+    l0 = 0.125 probe that ends at 0.175 where the base point has 0.09 used to be green
+    'converged' cells: now another state; a capped, a refused and a load point are told apart."""
+    fig = {"kind": "stability_map", "solvers": ["implicit"], "reference_tolerance": 0.05,
+           "scenes": {"implicit-base": {"solver": "implicit"}, "implicit-tol-0p1": {"solver": "implicit", "tol": 0.1},
+                      "implicit-l0-0p125": {"solver": "implicit", "l0": 0.125},
+                      "implicit-dx_max-0p02": {"solver": "implicit", "dx_max": 0.02},
+                      "implicit-t_max-1": {"solver": "implicit", "t_max": 1.0},
+                      "implicit-k_w-m1": {"solver": "implicit", "k_w": -1.0},
+                      "implicit-load-2p5": {"solver": "implicit", "load": 2.5}}}
+    probes = {"implicit-base": _probe("converged", 0.09, "helix"),
+              "implicit-tol-0p1": _probe("converged", 0.247, "straight"),
+              "implicit-l0-0p125": _probe("converged", 0.175, "helix"),
+              "implicit-dx_max-0p02": _probe("converged", 0.0915, "helix"),
+              "implicit-t_max-1": _probe("not_converged", 0.2, "helix"),
+              "implicit-k_w-m1": _probe("invalid", 0.0),
+              "implicit-load-2p5": _probe("converged", 1.2, "helix")}
+    ds = stability_map(fig, probes)
+    from confined_rod.figures.stability_map import OUTCOMES
+
+    got = {p: OUTCOMES[int(o)] for p, o in zip(ds.point.values, ds.outcome.values)}
+    assert got == {"implicit-base": "reference_state", "implicit-tol-0p1": "other_state",
+                   "implicit-l0-0p125": "other_state", "implicit-dx_max-0p02": "reference_state",
+                   "implicit-t_max-1": "capped", "implicit-k_w-m1": "refused", "implicit-load-2p5": "converged"}
+    assert dict(zip(ds.point.values, ds.state.values))["implicit-tol-0p1"] == "straight"
+    assert ds.attrs["outcome_counts"].startswith("reference state: 2, other state: 2, converged: 1, capped: 1")

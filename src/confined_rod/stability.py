@@ -51,6 +51,7 @@ def probe(params: Mapping[str, Any]) -> xr.Dataset:
             message, steps = ds.attrs["status_reason"], int(ds.n_steps)
             if status != "model_violated":  # a state outside the model carries no force worth storing
                 F, has_force = float(ds.F_transmitted), 1
+                shape = {k: ds[k] for k in ("x", "y", "z", "s_link")}  # the final shape: its state class
     wall = time.perf_counter() - t0
     out = xr.Dataset({
         "status": xr.Variable((), np.int8(STATUS.index(status)),
@@ -60,6 +61,10 @@ def probe(params: Mapping[str, Any]) -> xr.Dataset:
         "wall_time": variable((), wall, "wall_time"),
         "n_steps": variable((), steps, "n_steps"),
     })
+    if has_force:
+        out = out.assign({k: v.variable for k, v in shape.items() if k != "s_link"}).assign_coords(
+            s_link=shape["s_link"].variable)
+        out.attrs["R"] = float(scene.R)
     out.attrs.update({"message": message, "status_name": status,
                       "scene": str(params.get("name", "")), "solver": str(params.get("solver", "implicit"))})
     return out

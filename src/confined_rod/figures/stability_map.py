@@ -11,6 +11,7 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
+from .. import ensembles
 from .. import plotting as P
 from ..errors import ConfigError
 from ..quantities import QUANTITIES, label
@@ -19,6 +20,10 @@ SOURCE = "probe"
 OPTIONS = {
     "solvers": {"type": "array", "minItems": 1, "items": {"enum": ["implicit", "explicit"]},
                 "description": "the solvers swept"},
+    "reference_tolerance": {"type": "number", "exclusiveMinimum": 0, "default": 0.05,
+                            "description": "a converged point of a numerical parameter's sweep reached the "
+                                           "reference state if it has the base point's state class and its "
+                                           "|F_z(L)| lies within this fraction of the base point's"},
     "sweeps": {"type": "object", "minProperties": 1,
                "additionalProperties": {"type": "array", "minItems": 1, "items": {"type": "number"}},
                "description": "Scene field -> values, each varied alone about the figure's defaults for every "
@@ -60,8 +65,12 @@ def validate_config(figure, fig_cfg, scene_fields) -> None:
 def caption(figure, fig_cfg, built=None) -> str:
     d = fig_cfg.get("defaults") or {}
     return ("How every point of a one-at-a-time sweep about " + ", ".join(f"{k} = {v}" for k, v in d.items())
-            + " ended, for the solvers " + ", ".join(fig_cfg.get("solvers", [])) + ": equilibrium, time cap, "
-            "escape, divergence (message in the dataset) or invalid input. Sweeps: "
+            + " ended, for the solvers " + ", ".join(fig_cfg.get("solvers", [])) + ", by its physics as well as "
+            "its status: the base point's state (its state class, and |F_z(L)| within "
+            + f"{100 * float(fig_cfg.get('reference_tolerance', 0.05)):g} % of the base point's), another state "
+            "(named in the cell), converged where the sweep varies the physics, a time or step cap, an escape, a "
+            "divergence, refused input, or a state outside the model (messages in the dataset); the legend "
+            "gives the count of each. Sweeps: "
             + "; ".join(f"{k}: {', '.join(f'{x:g}' for x in v)}" for k, v in fig_cfg.get("sweeps", {}).items())
             + ". Parameters: see the dataset.")
 
@@ -94,13 +103,62 @@ def build(fig_cfg: Mapping[str, Any], probes: Mapping[str, xr.Dataset], context=
     ds = xr.Dataset(data, coords=coords)
     ds["message"] = xr.Variable(("point",), np.array([probes[n].attrs["message"] for n in names], dtype=object),
                                 attrs={"long_name": "how the run ended, in words", "units": "1"})
+    state, outcome = classify(fig_cfg, names, probes, solver, param)
+    ds["state"] = xr.Variable(("point",), np.array(state, dtype=object),
+                              attrs={"long_name": "final state class of a run that gave a force "
+                                                  "(ensembles.final_class; '-' otherwise)", "units": "1"})
+    ds["outcome"] = xr.Variable(("point",), np.array([OUTCOMES.index(o) for o in outcome], dtype=np.int8),
+                                attrs={"long_name": "how the run ended, by its physics as well as its status",
+                                       "units": "1", "flag_values": np.arange(len(OUTCOMES), dtype=np.int8),
+                                       "flag_meanings": " ".join(OUTCOMES)})
     ds.attrs["sweeps"] = repr(dict(fig_cfg.get("sweeps", {})))
+    ds.attrs["outcome_counts"] = ", ".join(f"{o.replace('_', ' ')}: {outcome.count(o)}" for o in OUTCOMES)
+    ds.attrs["reference_tolerance"] = float(fig_cfg.get("reference_tolerance", 0.05))
     return ds
 
 
-STATUS_COLOURS = {"converged": "#4daf4a", "not_converged": "#ffd92f", "escaped": "#80b1d3",
-                  "diverged": "#e41a1c", "invalid": "0.75", "model_violated": "#ff7f00",
-                  "step_cap": "#bc80bd"}
+#: a point's outcome: its status, and for a converged point of a numerical parameter whether it
+#: reached the base point's state (class and |F_z(L)| within reference_tolerance)
+OUTCOMES = ("reference_state", "other_state", "converged", "capped", "escaped", "diverged", "refused",
+            "model_violated")
+#: parameters of the numerics (the equilibrium should not depend on them); the others (load,
+#: k_fr, L) change the physics, so their points are classified by state only ("converged")
+NUMERICAL = {"base", "dt_factor", "dx_max", "tol", "k_ph", "k_w", "l0", "t_max", "max_steps"}
+
+
+def classify(fig_cfg, names, probes, solver, param) -> tuple[list[str], list[str]]:
+    """(state class, outcome) of every point. The reference of a solver's points is its base
+    point, if that converged (else the other solver's)."""
+    meanings = probes[names[0]]["status"].attrs["flag_meanings"].split()
+    status = [meanings[int(probes[n]["status"])] for n in names]
+    state = [ensembles.final_class(probes[n]) if "x" in probes[n] else "-" for n in names]
+    F = [float(probes[n]["F_transmitted"]) for n in names]
+    base = {sv: i for i, (sv, p) in enumerate(zip(solver, param)) if p == "base" and status[i] == "converged"}
+    tol = float(fig_cfg.get("reference_tolerance", 0.05))
+    outcome = []
+    for i, st in enumerate(status):
+        if st != "converged":
+            outcome.append({"not_converged": "capped", "step_cap": "capped", "invalid": "refused"}.get(st, st))
+            continue
+        ref = base.get(solver[i], next(iter(base.values()), None))
+        if param[i] not in NUMERICAL or ref is None:
+            outcome.append("converged")
+        elif state[i] == state[ref] and abs(F[i] - F[ref]) <= tol * abs(F[ref]):
+            outcome.append("reference_state")
+        else:
+            outcome.append("other_state")
+    return state, outcome
+
+
+OUTCOME_COLOURS = {"reference_state": "#4daf4a", "other_state": "#f781bf", "converged": "#b3de69",
+                   "capped": "#ffd92f", "escaped": "#80b1d3", "diverged": "#e41a1c", "refused": "0.75",
+                   "model_violated": "#ff7f00"}
+OUTCOME_LABELS = {"reference_state": "base point's state", "other_state": "another state (named)",
+                  "converged": "converged (physics varied)", "capped": "time or step cap",
+                  "escaped": "escaped", "diverged": "diverged", "refused": "refused input",
+                  "model_violated": "outside the model"}
+SHORT_STATE = {"straight": "straight", "planar": "planar", "twisted": "twisted", "defects": "defects",
+               "helix": "helix"}
 
 
 def plot(ds: xr.Dataset):
@@ -108,7 +166,7 @@ def plot(ds: xr.Dataset):
     the run ended; the cell text is the value (and |F_z(L)| where the run gave one)."""
     from matplotlib.patches import Patch, Rectangle
 
-    meanings = ds["status"].attrs["flag_meanings"].split()
+    meanings = ds["outcome"].attrs["flag_meanings"].split()
     solvers = [s for s in ("implicit", "explicit") if s in set(ds["solver"].values)]
     params = list(dict.fromkeys(ds["parameter"].values))
     ncol = max(int(np.sum((ds["solver"].values == sv) & (ds["parameter"].values == p)))
@@ -128,11 +186,13 @@ def plot(ds: xr.Dataset):
             m = np.flatnonzero((ds["solver"].values == sv) & (ds["parameter"].values == p))
             m = m[np.argsort(ds["value"].values[m])]
             for col, i in enumerate(m):
-                st = meanings[int(ds["status"].values[i])]
-                ax.add_patch(Rectangle((col, row), 0.95, 0.9, color=STATUS_COLOURS[st]))
+                st = meanings[int(ds["outcome"].values[i])]
+                ax.add_patch(Rectangle((col, row), 0.95, 0.9, color=OUTCOME_COLOURS[st]))
                 txt = "defaults" if p == "base" else f"{float(ds['value'].values[i]):g}"
                 if int(ds["has_force"].values[i]):
                     txt += f"\n{float(ds['F_transmitted'].values[i]):.3g}"
+                if st in ("other_state", "converged"):
+                    txt += f" {SHORT_STATE.get(str(ds['state'].values[i]), str(ds['state'].values[i]))}"
                 ax.text(col + 0.475, row + 0.45, txt, ha="center", va="center", fontsize=P.SMALL, linespacing=1.0)
         ax.set_xlim(0, ncol)
         ax.set_ylim(len(params), 0)
@@ -144,7 +204,9 @@ def plot(ds: xr.Dataset):
             ax.spines[side].set_visible(False)
         ax.set_title(f"{sv} solver (cell: value of the swept parameter; below it $|F_z(L)|$ [$EI/R^2$])",
                      fontsize=8, loc="left")
-    handles = [Patch(color=STATUS_COLOURS[k], label=k.replace("_", " ")) for k in meanings]
+    counts = [int(np.sum(ds["outcome"].values == i)) for i in range(len(meanings))]
+    handles = [Patch(color=OUTCOME_COLOURS[k], label=f"{OUTCOME_LABELS[k]} ({c})")
+               for k, c in zip(meanings, counts) if c]
     base = ", ".join(f"{k} = {ds.attrs[k]}" for k in ("L", "load", "k_fr", "l0", "t_max") if k in ds.attrs)
     fig.suptitle(f"stability stress map, one parameter at a time about {base}")
     fig.tight_layout()
