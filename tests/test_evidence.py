@@ -221,3 +221,45 @@ def test_the_figure_says_which_runs_are_not_at_equilibrium():
     texts = [t.get_text() for t in fig.texts]
     plt.close(fig)
     assert any("not at equilibrium" in t and "f6/L80 (step_cap)" in t for t in texts)
+
+
+def _ensemble_cases():
+    """(figure config, members) of every kind built from seed ensembles of simulations, from the
+    constructed members of tests/test_ensembles.py."""
+    from .test_ensembles import _profile, _sim
+
+    cases = {"transmitted_force": ({"kind": "transmitted_force"},
+                                   {f"L{L}-s{s}": _sim(float(L), s, 0.2 / (1 + L / 40) * (1 + 0.05 * s))
+                                    for L in (20, 40, 80) for s in range(3)}),
+             "force_profile": ({"kind": "force_profile"}, {f"c-s{s}": _profile(s, 1 + 0.1 * s) for s in range(3)})}
+    grid = {"kind": "jamming_map", "grid": {"L": [10, 40], "load": [0.25], "k_fr": [0.8]}, "defaults": {"seeds": 2}}
+    pipeline.expand({"figures": {"map": grid}})
+    cases["jamming_map"] = (grid, {n: _sim(float(n[1:3]), int(n[-1]), 0.2 if n.startswith("L10") else 0.05)
+                                   for n in grid["scenes"]})
+    ladder_sims = {}                                # as test_ensemble_ladder_dataset_from_constructed_rungs
+    for l0, mean in ((1.0, 0.075), (0.5, 0.070), (0.25, 0.0702)):
+        for s in range(4):
+            d = _sim(80.0, s, mean * (1 + 0.01 * s), turns=0.9 if (l0, s) == (1.0, 0) else 3.2)
+            d.attrs["l0"] = l0
+            ladder_sims[f"l0_{l0}-s{s}"] = d
+    cases["convergence"] = ({"kind": "convergence", "parameter": "l0", "tolerance": 0.05}, ladder_sims)
+    return cases
+
+
+@pytest.mark.parametrize("kind", ["transmitted_force", "force_profile", "jamming_map", "convergence"])
+def test_a_member_not_at_equilibrium_through_every_ensemble_kind(kind, capsys):
+    """One member of a seed ensemble ended at its step cap: every ensemble kind still builds its
+    dataset (the figure draws it), names the member in not_at_equilibrium and warns; a ladder
+    leaves it out of its verdict."""
+    fig_cfg, sims = _ensemble_cases()[kind]
+    sims = {k: d.copy() for k, d in sims.items()}
+    for d in sims.values():
+        d.attrs["status"] = "converged"
+    victim = sorted(sims)[1]
+    sims[victim] = _unsettled(sims[victim])
+    context = {"publication_value": 0.5} if kind == "convergence" else {}
+    ds = postprocess.build("f", fig_cfg, sims, context)
+    assert evidence.flagged(ds.attrs["not_at_equilibrium"]) == [f"f/{victim} (step_cap)"]
+    assert f"f/{victim} (step_cap)" in capsys.readouterr().err
+    if kind == "convergence":
+        assert ds.attrs["left_out"] == f"{victim} (step_cap)"
