@@ -157,8 +157,6 @@ OUTCOME_LABELS = {"reference_state": "base point's state", "other_state": "anoth
                   "converged": "converged (physics varied)", "capped": "time or step cap",
                   "escaped": "escaped", "diverged": "diverged", "refused": "refused input",
                   "model_violated": "outside the model"}
-SHORT_STATE = {"straight": "straight", "planar": "planar", "twisted": "twisted", "defects": "defects",
-               "helix": "helix"}
 
 
 def plot(ds: xr.Dataset):
@@ -192,7 +190,7 @@ def plot(ds: xr.Dataset):
                 if int(ds["has_force"].values[i]):
                     txt += f"\n{float(ds['F_transmitted'].values[i]):.3g}"
                 if st in ("other_state", "converged"):
-                    txt += f" {SHORT_STATE.get(str(ds['state'].values[i]), str(ds['state'].values[i]))}"
+                    txt += f" {ds['state'].values[i]}"
                 ax.text(col + 0.475, row + 0.45, txt, ha="center", va="center", fontsize=P.SMALL, linespacing=1.0)
         ax.set_xlim(0, ncol)
         ax.set_ylim(len(params), 0)
