@@ -28,8 +28,9 @@ def unsettled(figure: str, kind: str, sims: Mapping[str, xr.Dataset]) -> list[st
         return []
     runs = [f"{figure}/{r}" for r in evidence.not_at_equilibrium(sims)]
     if runs:
-        evidence.warn(f"warning: {figure}: {len(runs)} of {len(sims)} runs are not at equilibrium, so no "
-                      "claim or convergence verdict is decided on this figure: " + "; ".join(runs))
+        evidence.warn(f"warning: {figure}: {len(runs)} of {len(sims)} runs are not at a stable equilibrium; "
+                      "no claim is decided on this figure's dataset, and a convergence ladder leaves them out: "
+                      + "; ".join(runs))
     return runs
 
 
