@@ -567,9 +567,12 @@ def plot(ds: xr.Dataset):
             ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
                        label=rf"{'finest' if ensemble else 'limit'} $\pm$ {100 * tol:g} %")
             order = float(ds.observed_order[i])
-            head = ("ensembles" if ensemble else f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable")
-            off = "mean paired change" if ds.attrs.get("paired") else "pub. off by"
-            ax.set_title(head + f", {off} {100 * float(ds.publication_distance[i]):.2g} %", fontsize=7.5)
+            dist = f"{100 * float(ds.publication_distance[i]):.2g} %"
+            if ds.attrs.get("paired"):       # short: three panels side by side
+                ax.set_title(f"mean paired change {dist}", fontsize=7.5)
+            else:
+                head = ("ensembles" if ensemble else f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable")
+                ax.set_title(f"{head}, pub. off by {dist}", fontsize=7.5)
         else:
             ax.set_title("not checked (not every rung is a helix)", fontsize=7.5)
         ax.set_xscale("log")
