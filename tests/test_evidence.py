@@ -220,7 +220,7 @@ def test_the_figure_says_which_runs_are_not_at_equilibrium():
     plotting.mark_unsettled(fig, ds)
     texts = [t.get_text() for t in fig.texts]
     plt.close(fig)
-    assert any("not at equilibrium" in t and "f6/L80 (step_cap)" in t for t in texts)
+    assert any("not at a stable equilibrium, drawn" in t and "f6/L80 (step_cap)" in t for t in texts)
 
 
 def _ensemble_cases():
@@ -248,9 +248,9 @@ def _ensemble_cases():
 
 @pytest.mark.parametrize("kind", ["transmitted_force", "force_profile", "jamming_map", "convergence"])
 def test_a_member_not_at_equilibrium_through_every_ensemble_kind(kind, capsys):
-    """One member of a seed ensemble ended at its step cap: every ensemble kind still builds its
-    dataset (the figure draws it), names the member in not_at_equilibrium and warns; a ladder
-    leaves it out of its verdict."""
+    """One member of a seed ensemble ended at its step cap: every ensemble kind leaves it out of
+    its statistics (a ladder out of its verdict) and names it; with every member capped the
+    dataset is built from them, flagged, so that no claim is decided on it."""
     fig_cfg, sims = _ensemble_cases()[kind]
     sims = {k: d.copy() for k, d in sims.items()}
     for d in sims.values():
@@ -259,7 +259,15 @@ def test_a_member_not_at_equilibrium_through_every_ensemble_kind(kind, capsys):
     sims[victim] = _unsettled(sims[victim])
     context = {"publication_value": 0.5} if kind == "convergence" else {}
     ds = postprocess.build("f", fig_cfg, sims, context)
-    assert evidence.flagged(ds.attrs["not_at_equilibrium"]) == [f"f/{victim} (step_cap)"]
+    # its ensemble has members at equilibrium: it is left out of the statistics, and named
+    assert evidence.flagged(ds.attrs["left_out"]) == [f"f/{victim} (step_cap)"]
+    assert ds.attrs["not_at_equilibrium"] == "none"
     assert f"f/{victim} (step_cap)" in capsys.readouterr().err
-    if kind == "convergence":
-        assert ds.attrs["left_out"] == f"{victim} (step_cap)"
+    if kind != "convergence":                    # a ladder leaves the seed out inside its own dataset
+        used = ds.attrs["scenes"].split(", ")
+        assert victim not in used and len(used) == len(sims) - 1
+    # every member of every ensemble capped: nothing to leave out to; drawn, flagged
+    for k in sims:
+        sims[k] = _unsettled(sims[k])
+    ds = postprocess.build("f", fig_cfg, sims, context)
+    assert len(evidence.flagged(ds.attrs["not_at_equilibrium"])) == len(sims) and ds.attrs["left_out"] == "none"

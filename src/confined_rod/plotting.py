@@ -74,17 +74,21 @@ def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:
 
 
 def mark_unsettled(fig, ds: xr.Dataset) -> None:
-    """A figure drawn from runs that are not at equilibrium says so in red across its foot."""
+    """A figure says in red below its axes which of its runs are not at a stable equilibrium:
+    those drawn (no verdict on them) and those left out of its statistics."""
     from .evidence import flagged
 
-    runs = flagged(ds.attrs.get("not_at_equilibrium"))
-    if runs:
-        shown = "; ".join(runs[:3]) + (f"; and {len(runs) - 3} more" if len(runs) > 3 else "")
+    def listed(runs):
+        return "; ".join(runs[:3]) + (f"; and {len(runs) - 3} more" if len(runs) > 3 else "")
+
+    inside, out = flagged(ds.attrs.get("not_at_equilibrium")), flagged(ds.attrs.get("left_out"))
+    parts = ([f"not at a stable equilibrium, drawn, no verdict on them: {listed(inside)}"] if inside else []) + (
+        [f"not at a stable equilibrium, left out: {listed(out)}"] if out else [])
+    if parts:
         # below everything else (the saved figure's tight bounding box takes it in)
         lowest = min([ax.get_tightbbox(fig.canvas.get_renderer()).transformed(fig.transFigure.inverted()).y0
                       for ax in fig.axes] + [0.0])
-        fig.text(0.01, lowest - 0.01, "\n".join(textwrap.wrap(f"not at a stable equilibrium, no verdict on them: "
-                                                               f"{shown}", 110)),
+        fig.text(0.01, lowest - 0.01, "\n".join(line for part in parts for line in textwrap.wrap(part, 110)),
                  color="red", fontsize=7, ha="left", va="top")
 
 

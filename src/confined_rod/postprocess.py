@@ -11,7 +11,7 @@ from typing import Any, Mapping
 
 import xarray as xr
 
-from . import evidence, figures
+from . import ensembles, evidence, figures
 from .io import finalize
 
 #: scene attributes copied onto every figure dataset (those the figure varies are left out)
@@ -19,34 +19,51 @@ COMMON = ("R", "EI", "load", "k_fr", "l0", "k_ph", "k_w", "friction_cap", "proto
           "bending_constant")
 
 
-def unsettled(figure: str, kind: str, sims: Mapping[str, xr.Dataset]) -> list[str]:
-    """The figure's runs that are not at equilibrium (a step or time cap, an escape), named with
-    their status and printed as a warning: the figure draws them (marked), and no claim, fit
-    verdict or convergence rung is decided on them. Probes and load paths record how each
-    point ended in their own variables."""
-    if figures.source(kind) != "simulate":
-        return []
-    runs = [f"{figure}/{r}" for r in evidence.not_at_equilibrium(sims)]
-    if runs:
-        evidence.warn(f"warning: {figure}: {len(runs)} of {len(sims)} runs are not at a stable equilibrium; "
-                      "no claim is decided on this figure's dataset, and a convergence ladder leaves them out: "
-                      + "; ".join(runs))
-    return runs
+def settle(kind: str, sims: Mapping[str, xr.Dataset]) -> tuple[dict[str, xr.Dataset], list[str]]:
+    """(the runs a figure's statistics use, the runs left out of them): a run not at a stable
+    equilibrium (a step or time cap, an escape, a known saddle: evidence.status) is left out of
+    its seed ensemble when other members of it are at one. A run alone, or an ensemble with no
+    member at equilibrium, stays in (the figure draws it, marked; no claim is decided on it). A
+    kind that sorts its runs itself (HANDLES_UNSETTLED: the convergence ladders, which leave a
+    paired seed out at every rung) gets them all. Probes and load paths record how each point
+    ended in their own variables."""
+    module = figures.get(kind)
+    if figures.source(kind) != "simulate" or getattr(module, "HANDLES_UNSETTLED", False):
+        return dict(sims), []
+    seeds = {n: int(d.attrs.get("seed", 0)) for n, d in sims.items()}
+    out = []
+    for members in ensembles.by_base(list(sims), seeds).values():
+        ok = [m for m in members if evidence.status(sims[m]) == evidence.EQUILIBRIUM]
+        if ok:
+            out += [m for m in members if m not in ok]
+    return {n: d for n, d in sims.items() if n not in out}, out
 
 
 def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset],
           context: Mapping[str, Any] | None = None) -> xr.Dataset:
+    """The figure's dataset from its scene datasets, with the attributes every figure dataset
+    carries; ``not_at_equilibrium`` names the runs in it that are not at a stable equilibrium
+    (no claim is decided on it then) and ``left_out`` those left out of its statistics."""
     kind = fig_cfg["kind"]
     module = figures.get(kind)
-    ds = module.build(fig_cfg, sims, dict(context or {}))
+    used, dropped = settle(kind, sims)
+    ds = module.build(fig_cfg, used, dict(context or {}))
+    named = {n: f"{figure}/{n} ({evidence.status(sims[n])})" for n in sims
+             if figures.source(kind) == "simulate" and evidence.status(sims[n]) != evidence.EQUILIBRIUM}
+    left_out = [named[n] for n in dropped] + [f"{figure}/{r}" for r in evidence.flagged(ds.attrs.pop("left_out", None))]
+    inside = [r for r in named.values() if r not in left_out]
+    if named:
+        evidence.warn(f"warning: {figure}: {len(named)} of {len(sims)} runs are not at a stable equilibrium"
+                      + (f"; left out of its statistics: {'; '.join(left_out)}" if left_out else "")
+                      + (f"; in its dataset, so no claim is decided on it: {'; '.join(inside)}" if inside else ""))
     meta = {"figure": figure, "kind": kind, "paper_figure": fig_cfg.get("paper_figure", "none"),
-            "figure_title": fig_cfg.get("title", figure), "scenes": list(sims),
+            "figure_title": fig_cfg.get("title", figure), "scenes": list(used),
             "scene_git_commits": sorted({str(d.attrs.get("git_commit", "unknown")) for d in sims.values()}),
-            "not_at_equilibrium": evidence.join(unsettled(figure, kind, sims))}
+            "not_at_equilibrium": evidence.join(inside), "left_out": evidence.join(left_out)}
     if hasattr(module, "meta"):
-        meta.update(module.meta(fig_cfg, sims))
+        meta.update(module.meta(fig_cfg, used))
     else:
-        first = next(iter(sims.values()))
+        first = next(iter(used.values()))
         varied = set(figures.varied(kind, fig_cfg))
         meta.update({k: first.attrs[k] for k in COMMON if k in first.attrs and k not in varied})
     return finalize(ds, f"{fig_cfg.get('title', figure)} {figures.origin(fig_cfg)}", meta)

@@ -159,6 +159,10 @@ def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[flo
     return p, float(f3 + (f3 - f2) / (r**p - 1.0)), ""
 
 
+#: the ladder sorts out runs not at a stable equilibrium itself (postprocess.settle)
+HANDLES_UNSETTLED = True
+
+
 def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
     """The ladder's dataset and verdict, never decided on a run that is not at a stable
     equilibrium (a step or time cap, an escape, a known saddle: evidence.status). In a ladder of
@@ -177,9 +181,9 @@ def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=No
     groups = ensembles.group(list(sims), {n: sims[n].attrs for n in sims}, (fig_cfg["parameter"],))
     if all(len(g) > 1 for g in groups) and all(sum(n in kept for n in g) >= 2 for g in groups):
         ds = _build(fig_cfg, kept, context)
-        ds.attrs["left_out"] = "; ".join(named) + (f" (paired: seed{'s' if len(drop) > len(off) else ''} left "
-                                                   "out at every rung)" if fig_cfg.get("paired") else "")
-        ds.attrs["notes"] = f"{ds.attrs['notes']}; left out, not at a stable equilibrium: {ds.attrs['left_out']}"
+        ds.attrs["left_out"] = "; ".join(named)
+        ds.attrs["notes"] = (f"{ds.attrs['notes']}; left out, not at a stable equilibrium: {ds.attrs['left_out']}"
+                             + (" (paired: the seed left out at every rung)" if fig_cfg.get("paired") else ""))
         return ds
     ds = _build(fig_cfg, sims, context)
     ds.attrs["status"] = ("inconclusive: evidence not at equilibrium (" + "; ".join(named[:4])
