@@ -25,10 +25,14 @@ def test_a_free_lower_end_rests_on_the_floor():
     assert float(ds.F_transmitted) == pytest.approx(sc.load - float(ds.friction_z.sum()), abs=1e-4)
 
 
-def test_a_free_lower_end_without_a_floor_is_refused():
+def test_a_free_lower_end_without_a_floor_is_refused_unless_friction_can_hold_it():
     with pytest.raises(SceneError, match=r"'floor': False .*lower_end 'free'.*floor: true or lower_end: held"):
         Scene(name="x", lower_end="free", floor=False)
+    with pytest.raises(SceneError, match=r"'floor': False"):     # pressed on the wall, but no friction
+        Scene(name="x", lower_end="free", floor=False, k_fr=0.0, body_force=(0.1, 0.0, 0.0))
     Scene(name="x", lower_end="held", floor=False)                # the support holds it
+    # pressed on the wall by a sideways body force, friction can hold it (tests/test_friction.py)
+    Scene(name="x", lower_end="free", floor=False, k_fr=0.5, body_force=(0.1, 0.0, 0.0))
 
 
 def test_the_axial_balance_closes_from_the_dataset_with_a_body_force_and_an_open_entrance():

@@ -361,13 +361,18 @@ def _validate(s: Scene) -> None:
                          ("bending_constant", BENDING_CONSTANT)):
         if getattr(s, key) not in allowed:
             fail(key, f"must be one of {', '.join(allowed)}")
-    if s.lower_end == "free" and not s.floor:
-        fail("floor", "false with lower_end 'free': nothing holds the rod against the load (no support, "
-                      "no floor), so it drifts down without end; set floor: true or lower_end: held")
     bf = s.body_force
     if (not isinstance(bf, (list, tuple)) or len(bf) != 3
             or any(isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) for v in bf)):
         fail("body_force", "must be three finite numbers (fx, fy, fz)")
+    # Without support or floor only wall friction can hold the rod, and friction needs a normal
+    # force from the start: a sideways body force. An unloaded straight rod has no wall contact and
+    # cannot buckle without something to push against, so it would drift down without end.
+    pressed = isinstance(s.k_fr, numbers.Real) and s.k_fr > 0 and (bf[0] != 0 or bf[1] != 0)
+    if s.lower_end == "free" and not s.floor and not pressed:
+        fail("floor", "false with lower_end 'free' and nothing pressing the rod on the wall (k_fr > 0 and a "
+                      "sideways body_force): nothing holds it against the load, so it drifts down without end; "
+                      "set floor: true or lower_end: held")
 
     # resolve defaults in units of R and EI (R, EI bounded first: R**4/EI must not overflow)
     object.__setattr__(s, "R", float(s.R))
