@@ -31,8 +31,7 @@ class EvidenceError(ValueError):
 
 
 def _rebuild_hint(path: str | Path) -> str:
-    return (f"delete {path} or rerun with --forcerun (snakemake --forcerun simulate postprocess claims) "
-            "to rebuild it")
+    return f"delete it or run snakemake --forcerun {path} to rebuild it (and what reads it)"
 
 
 def stored_attrs(path: str | Path) -> dict[str, Any]:
