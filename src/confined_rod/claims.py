@@ -71,8 +71,7 @@ class Evidence:
             if what == "dataset":
                 runs += evidence.flagged(self.datasets[key].attrs.get("not_at_equilibrium"))
             else:
-                runs += [f"{key} ({evidence.status(self.sims[key])})"] if evidence.status(
-                    self.sims[key]) != evidence.EQUILIBRIUM else []
+                runs += evidence.not_at_equilibrium({key: self.sims[key]})
         return list(dict.fromkeys(runs))
 
     def file(self, key: str) -> str:

@@ -1,7 +1,7 @@
 """Is a stored run the evidence it claims to be?  Checks shared by the workflow's DAG
 construction, post-processing and the claims (datasets only; never the simulator).
 
-- :func:`check_file`: a scene file (``results/sims``, ``results/paths``) opens, and its stored
+- :func:`problem`, :func:`check_file`: a scene file (``results/sims``, ``results/paths``) opens, and its stored
   scene name and parameters equal the ones the config asks for. Snakemake's parameter trigger
   relies on its metadata in ``.snakemake/``; this check relies only on the file, so a file
   copied over another, or a tree built from another config whose metadata was lost, is
@@ -34,17 +34,8 @@ def _rebuild_hint(path: str | Path) -> str:
     return f"delete it or run snakemake --forcerun {path} to rebuild it (and what reads it)"
 
 
-def stored_attrs(path: str | Path) -> dict[str, Any]:
-    """The global attributes of a netCDF file, read without loading its variables; a file
-    that is missing, truncated or not netCDF gives one line saying how to rebuild it."""
-    import netCDF4
-
-    try:
-        with netCDF4.Dataset(str(path)) as nc:
-            return {k: nc.getncattr(k) for k in nc.ncattrs()}
-    except (OSError, RuntimeError, ValueError, KeyError) as e:
-        raise EvidenceError(f"{path}: cannot be read as netCDF ({type(e).__name__}: "
-                            f"{str(e).splitlines()[0] if str(e) else 'no detail'}); {_rebuild_hint(path)}") from None
+def _unreadable(path: str | Path, e: Exception) -> str:
+    return f"{path}: cannot be read ({type(e).__name__}: {str(e).splitlines()[0] if str(e) else 'no detail'})"
 
 
 def _same(stored: Any, wanted: Any) -> bool:
@@ -79,33 +70,45 @@ def _show(v: Any) -> str:
     return repr(v) if isinstance(v, str) else str(v)
 
 
+def problem(path: str | Path, wanted: Mapping[str, Any]) -> str | None:
+    """What is wrong with a scene file, in a few words naming it (unreadable, or the first
+    parameter it holds other than the config's scene ``wanted``); None if nothing. Reads only
+    its global attributes."""
+    import netCDF4
+
+    try:
+        with netCDF4.Dataset(str(path)) as nc:
+            stored = {k: nc.getncattr(k) for k in nc.ncattrs()}
+    except (OSError, RuntimeError, ValueError, KeyError) as e:
+        return _unreadable(path, e)
+    diff = mismatch(stored, wanted)
+    return f"{path} {diff}" if diff else None
+
+
+def _refuse(path: str | Path, what: str):
+    return EvidenceError(f"{what}: it is not the run this config asks for (a file copied over another, or built "
+                         f"from another config); {_rebuild_hint(path)}")
+
+
 def check_file(path: str | Path, wanted: Mapping[str, Any]) -> None:
     """Raise EvidenceError (one line) unless the file opens and stores the scene ``wanted``."""
-    diff = mismatch(stored_attrs(path), wanted)
-    if diff:
-        raise EvidenceError(f"{path} {diff}: it is not the run this config asks for (a file copied over "
-                            f"another, or built from another config); {_rebuild_hint(path)}")
-
-
-def check_dataset(ds, path: str | Path, wanted: Mapping[str, Any]) -> None:
-    """The same check on a dataset already loaded from ``path``."""
-    diff = mismatch(ds.attrs, wanted)
-    if diff:
-        raise EvidenceError(f"{path} {diff}: it is not the run this config asks for; {_rebuild_hint(path)}")
+    what = problem(path, wanted)
+    if what:
+        raise _refuse(path, what)
 
 
 def load(path: str | Path, wanted: Mapping[str, Any] | None = None):
     """xarray.load_dataset with one-line errors for an unreadable file, checked against the
-    config's scene ``wanted`` when given."""
+    config's scene ``wanted`` when given (on the loaded attributes: one read)."""
     import xarray as xr
 
-    if wanted is not None:
-        check_file(path, wanted)
     try:
         ds = xr.load_dataset(path)
     except (OSError, RuntimeError, ValueError, KeyError) as e:
-        raise EvidenceError(f"{path}: cannot be read ({type(e).__name__}: "
-                            f"{str(e).splitlines()[0] if str(e) else 'no detail'}); {_rebuild_hint(path)}") from None
+        raise EvidenceError(f"{_unreadable(path, e)}; {_rebuild_hint(path)}") from None
+    diff = mismatch(ds.attrs, wanted) if wanted is not None else None
+    if diff:
+        raise _refuse(path, f"{path} {diff}")
     return ds
 
 

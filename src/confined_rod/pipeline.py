@@ -243,7 +243,7 @@ def stale_inputs(config: dict[str, Any], figure: str, scene: str, path: str) -> 
     Snakemake's metadata in .snakemake/ was lost), else []. The marker is touched now, so the
     rule that makes the file sees an input newer than its output and rebuilds it (and so
     everything downstream); a note names the file and the first differing parameter."""
-    from .evidence import EvidenceError, check_file
+    from .evidence import problem
 
     marker = rebuild_marker(figure, scene)
     file = Path(path)
@@ -255,11 +255,8 @@ def stale_inputs(config: dict[str, Any], figure: str, scene: str, path: str) -> 
     st = file.stat()
     key = (str(file), st.st_mtime_ns, st.st_size, repr(sorted(wanted.items())))
     if key not in _CHECKED:
-        try:
-            check_file(file, wanted)
-            _CHECKED[key] = None
-        except EvidenceError as e:
-            _CHECKED[key] = str(e).split(": it is not", 1)[0].split("; delete", 1)[0]
+        _CHECKED[key] = problem(file, wanted)
+        if _CHECKED[key]:
             import sys
 
             print(f"note: {_CHECKED[key]}: it will be rebuilt", file=sys.stderr)
