@@ -131,9 +131,15 @@ def status(ds) -> str:
     return "no status attribute"
 
 
+def unsettled(sims: Mapping[str, Any]) -> dict[str, str]:
+    """name -> status of every run of ``sims`` (name -> dataset) not at a stable equilibrium."""
+    found = {name: status(d) for name, d in sims.items()}
+    return {name: st for name, st in found.items() if st != EQUILIBRIUM}
+
+
 def not_at_equilibrium(sims: Mapping[str, Any]) -> list[str]:
-    """'scene (status)' of every run of ``sims`` (name -> dataset) that did not converge."""
-    return [f"{name} ({status(d)})" for name, d in sims.items() if status(d) != EQUILIBRIUM]
+    """'scene (status)' of every run of ``sims`` (name -> dataset) not at a stable equilibrium."""
+    return [f"{name} ({st})" for name, st in unsettled(sims).items()]
 
 
 def flagged(attr: str | None) -> list[str]:

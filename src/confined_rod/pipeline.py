@@ -148,7 +148,7 @@ def canonical_scene(config: dict[str, Any], figure: str, scene: str) -> tuple[st
 
 
 _INDEX: dict[int, tuple[str, dict[str, tuple[str, str]]]] = {}
-_KEYS: dict[str, str] = {}
+_KEYS: dict[str, tuple[dict[str, Any], str]] = {}
 
 
 def _canonical_index(config: dict[str, Any]) -> dict[str, tuple[str, str]]:
@@ -166,9 +166,10 @@ def _canonical_index(config: dict[str, Any]) -> dict[str, tuple[str, str]]:
     return cached[1]
 
 
-def _key(params: dict[str, Any]) -> str:
-    """The scene's parameters with defaults filled in, name aside, as text (memoised: building a
-    Scene validates it, which a DAG build would otherwise repeat for every scene it meets)."""
+def _resolved(params: dict[str, Any]) -> tuple[dict[str, Any], str]:
+    """(the scene's parameters with defaults filled in, name aside; the same as text), memoised:
+    building a Scene validates it, which a DAG build would otherwise repeat for every scene it
+    meets and every file it checks. Parameters that build no Scene are taken as they are."""
     raw = dict(params)
     raw.pop("name", None)
     raw_key = repr(sorted(raw.items(), key=lambda kv: str(kv[0])))
@@ -178,8 +179,12 @@ def _key(params: dict[str, Any]) -> str:
         except (SceneError, TypeError):
             d = dict(params)
         d.pop("name", None)
-        _KEYS[raw_key] = repr(sorted(d.items()))
+        _KEYS[raw_key] = (d, repr(sorted(d.items())))
     return _KEYS[raw_key]
+
+
+def _key(params: dict[str, Any]) -> str:
+    return _resolved(params)[1]
 
 
 def probe_path(figure: str, scene: str) -> str:
@@ -217,10 +222,7 @@ def wanted_scene(config: dict[str, Any], figure: str, scene: str, shared: bool =
         return None
     f, s = canonical_scene(config, figure, scene) if source == "simulate" and shared else (figure, scene)
     params = scene_params(config, f, s)
-    try:
-        return Scene.from_dict(params).to_dict()
-    except (SceneError, TypeError):
-        return params
+    return {**_resolved(params)[0], "name": params["name"]}
 
 
 def figure_wanted(config: dict[str, Any], figure: str) -> list[dict[str, Any] | None]:

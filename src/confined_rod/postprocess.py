@@ -31,11 +31,11 @@ def settle(kind: str, sims: Mapping[str, xr.Dataset]) -> tuple[dict[str, xr.Data
     if figures.source(kind) != "simulate" or getattr(module, "HANDLES_UNSETTLED", False):
         return dict(sims), []
     seeds = {n: int(d.attrs.get("seed", 0)) for n, d in sims.items()}
+    bad = evidence.unsettled(sims)
     out = []
     for members in ensembles.by_base(list(sims), seeds).values():
-        ok = [m for m in members if evidence.status(sims[m]) == evidence.EQUILIBRIUM]
-        if ok:
-            out += [m for m in members if m not in ok]
+        if any(m not in bad for m in members):
+            out += [m for m in members if m in bad]
     return {n: d for n, d in sims.items() if n not in out}, out
 
 
@@ -48,8 +48,8 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
     module = figures.get(kind)
     used, dropped = settle(kind, sims)
     ds = module.build(fig_cfg, used, dict(context or {}))
-    named = {n: f"{figure}/{n} ({evidence.status(sims[n])})" for n in sims
-             if figures.source(kind) == "simulate" and evidence.status(sims[n]) != evidence.EQUILIBRIUM}
+    named = ({n: f"{figure}/{n} ({st})" for n, st in evidence.unsettled(sims).items()}
+             if figures.source(kind) == "simulate" else {})
     left_out = [named[n] for n in dropped] + [f"{figure}/{r}" for r in evidence.flagged(ds.attrs.pop("left_out", None))]
     inside = [r for r in named.values() if r not in left_out]
     if named:

@@ -169,10 +169,13 @@ def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=No
     seed ensembles such runs are left out (a paired ladder leaves out the seed at every rung) and
     named in ``left_out``; if a rung is left with fewer than two runs, or the ladder has one run
     per rung, the verdict is 'inconclusive: evidence not at equilibrium (...)'."""
-    off = [n for n, d in sims.items() if evidence.status(d) != evidence.EQUILIBRIUM]
+    status = evidence.unsettled(sims)
+    off = list(status)
     if not off:
-        return _build(fig_cfg, sims, context)
-    named = [f"{n} ({evidence.status(sims[n])})" for n in off]
+        ds = _ladder(fig_cfg, sims, context)
+        ds.attrs["left_out"] = "none"
+        return ds
+    named = [f"{n} ({status[n]})" for n in off]
     drop = set(off)
     if fig_cfg.get("paired"):
         seeds = {int(sims[n].attrs.get("seed", 0)) for n in off}
@@ -180,21 +183,15 @@ def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=No
     kept = {n: d for n, d in sims.items() if n not in drop}
     groups = ensembles.group(list(sims), {n: sims[n].attrs for n in sims}, (fig_cfg["parameter"],))
     if all(len(g) > 1 for g in groups) and all(sum(n in kept for n in g) >= 2 for g in groups):
-        ds = _build(fig_cfg, kept, context)
+        ds = _ladder(fig_cfg, kept, context)
         ds.attrs["left_out"] = "; ".join(named)
         ds.attrs["notes"] = (f"{ds.attrs['notes']}; left out, not at a stable equilibrium: {ds.attrs['left_out']}"
                              + (" (paired: the seed left out at every rung)" if fig_cfg.get("paired") else ""))
         return ds
-    ds = _build(fig_cfg, sims, context)
+    ds = _ladder(fig_cfg, sims, context)
     ds.attrs["status"] = ("inconclusive: evidence not at equilibrium (" + "; ".join(named[:4])
                           + (f"; and {len(named) - 4} more" if len(named) > 4 else "") + ")")
     ds.attrs["left_out"] = "none"
-    return ds
-
-
-def _build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
-    ds = _ladder(fig_cfg, sims, context)
-    ds.attrs.setdefault("left_out", "none")
     return ds
 
 
