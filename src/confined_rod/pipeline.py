@@ -57,11 +57,20 @@ def scene_params(config: dict[str, Any], figure: str, scene: str) -> dict[str, A
     return params
 
 
+_SCENES: dict[str, Scene] = {}
+
+
 def build_scene(config: dict[str, Any], figure: str, scene: str) -> Scene:
-    try:
-        return Scene.from_dict(scene_params(config, figure, scene))
-    except (SceneError, TypeError) as e:
-        raise ConfigError(f"figures.{figure}.scenes.{scene}: {e}") from None
+    """The validated Scene of one scene of the config, memoised by its parameters (a Scene is
+    immutable; a DAG build asks for each one several times: priority, run time, the file check)."""
+    params = scene_params(config, figure, scene)
+    key = repr(sorted(params.items(), key=lambda kv: str(kv[0])))
+    if key not in _SCENES:
+        try:
+            _SCENES[key] = Scene.from_dict(params)
+        except (SceneError, TypeError) as e:
+            raise ConfigError(f"figures.{figure}.scenes.{scene}: {e}") from None
+    return _SCENES[key]
 
 
 def built_scenes(config: dict[str, Any], figure: str) -> dict[str, Scene]:
@@ -147,23 +156,34 @@ def canonical_scene(config: dict[str, Any], figure: str, scene: str) -> tuple[st
     return _canonical_index(config)[_key(scene_params(config, figure, scene))]
 
 
-_INDEX: dict[int, tuple[str, dict[str, tuple[str, str]]]] = {}
+_INDEX: dict[int, tuple[dict[str, Any], tuple, dict[str, tuple[str, str]]]] = {}
 _KEYS: dict[str, tuple[dict[str, Any], str]] = {}
+
+
+def _config_stamp(config: dict[str, Any]) -> tuple:
+    """What the canonical index depends on, cheaply: the defaults as text and, per figure, the
+    identity and size of its scene table (text of every scene would make each lookup O(scenes),
+    so a DAG build O(scenes^2)). A scene's parameters edited in place are not seen; the config
+    of a run is fixed once expanded, and an expansion that adds scenes changes a size."""
+    figs = config.get("figures") or {}
+    return (repr(config.get("scene_defaults")),
+            tuple((f, repr(figs[f].get("defaults")), id(figs[f].get("scenes")), len(figs[f].get("scenes") or {}))
+                  for f in figs))
 
 
 def _canonical_index(config: dict[str, Any]) -> dict[str, tuple[str, str]]:
     """Scene key -> the first (figure, scene) declaring it; rebuilt when the config's scenes change
-    (a DAG build asks for every scene's canonical run, so this is built once, not once per scene)."""
-    stamp = repr((config.get("scene_defaults"), [(f, config["figures"][f].get("defaults"),
-                                                   config["figures"][f].get("scenes")) for f in figures(config)]))
+    (a DAG build asks for every scene's canonical run, so this is built once, not once per scene).
+    The cache holds the config itself, so that its id is not reused while the entry lives."""
+    stamp = _config_stamp(config)
     cached = _INDEX.get(id(config))
-    if cached is None or cached[0] != stamp:
+    if cached is None or cached[0] is not config or cached[1] != stamp:
         index: dict[str, tuple[str, str]] = {}
         for f in figures(config):
             for s in scenes(config, f):
                 index.setdefault(_key(scene_params(config, f, s)), (f, s))
-        _INDEX[id(config)] = cached = (stamp, index)
-    return cached[1]
+        _INDEX[id(config)] = cached = (config, stamp, index)
+    return cached[2]
 
 
 def _resolved(params: dict[str, Any]) -> tuple[dict[str, Any], str]:

@@ -60,11 +60,12 @@ def expand_sweeps(fig_cfg: dict) -> None:
                 raise ConfigError(f"grid.{axis}: {other!r} and {v!r} give the same scene name ({axis} "
                                   f"{_tag(v)!r}: names keep 6 significant digits); make them differ within those")
     scenes = fig_cfg.setdefault("scenes", {}) or {}
+    done = {n.rsplit("-s", 1)[0] for n in scenes} | set(scenes)              # already expanded (seeds)
     for L in grid["L"]:
         for load in grid["load"]:
             for k in grid["k_fr"]:
                 name = f"L{_tag(L)}-F{_tag(load)}-k{_tag(k)}"
-                if not any(n == name or n.startswith(name + "-s") for n in scenes):   # already expanded
+                if name not in done:
                     scenes[name] = {"L": L, "load": load, "k_fr": k}
     fig_cfg["scenes"] = scenes
 
