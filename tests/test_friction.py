@@ -36,17 +36,18 @@ def test_below_the_limit_the_rod_sticks_and_never_creeps(solver, monkeypatch):
     z_rest = st.r[:, 2].copy()
     phi_rest = np.arctan2(st.r[:, 1], st.r[:, 0])
     # run on for 2 x 10x as long with an unreachable tolerance: nothing may creep along the wall.
-    # The implicit solver holds a stuck link with a stiff spring (k_w) to its stick anchor; as its
+    # The implicit solver holds a stuck link with a spring (k_t = k_w/10) to its stick anchor; as its
     # Newton residual falls from the step's forcing level to round-off the rod may settle within
-    # that spring, by (residual force)/k_w << f_max/k_w = 2.5e-5 R here, once.  Creep would move
-    # it by as much again in the second half; 1e-12 R allows for round-off only.
+    # that spring, by (residual force)/k_t << f_max/k_t = 2.5e-4 R here, once (measured 3.4e-9 R;
+    # 3.4e-10 R at k_t = k_w).  Creep would move it by as much again in the second half; 1e-12 R
+    # allows for round-off only.
     # (a tiny tol alone would be lifted to the round-off floor, where this rod counts as settled)
     monkeypatch.setattr(base, "equilibrium_tol", lambda scene: 0.0)
     sc_long = scene(0.1, tol=1e-9)
     span = 10 * max(t_rest, 50.0)
     relax(sc_long, st, t_end=t_rest + span, progress=False)
     assert not st.converged and st.time >= (t_rest + span) * (1 - 1e-12)
-    settle = {"explicit": 1e-12, "implicit": 1e-9}[solver]
+    settle = {"explicit": 1e-12, "implicit": 1e-8}[solver]
     assert np.abs(st.r[:, 2] - z_rest).max() < settle
     z_mid, phi_mid = st.r[:, 2].copy(), np.arctan2(st.r[:, 1], st.r[:, 0])
     assert np.abs(phi_mid - phi_rest).max() < settle

@@ -461,7 +461,7 @@ def test_sigterm_ends_a_run_like_ctrl_c(tmp_path):
     import time
 
     out = tmp_path / "o.nc"
-    scene = _scene_file(tmp_path, L=400, k_fr=0.8, load=0.25)
+    scene = _scene_file(tmp_path, L=2000, k_fr=0.8, load=0.25)      # long enough to be running after 3 s
     proc = subprocess.Popen([sys.executable, "-m", "confined_rod", "run", str(scene), "-o", str(out)],
                             stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
     deadline = time.time() + 60

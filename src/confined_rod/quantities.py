@@ -84,6 +84,8 @@ SCENE_PARAMETERS = [
     _param("k_ph", "k_{ph}", "physical stretching stiffness of the rod (bond constant k = k_ph/l0)", "EI R-2",
            _POS_OR_DEFAULT),
     _param("k_w", "k_w", "wall penalty constant per link end", "EI R-3", _POS_OR_DEFAULT),
+    _param("k_t", "k_t", "implicit solver: stick stiffness of the wall friction per link (a stuck link is held by "
+           "a tangential spring to its anchor, rigid stick as k_t -> inf; default k_w/10)", "EI R-3", _POS_OR_DEFAULT),
     _param("solver", "", "time integrator: implicit (fast default) or explicit (the paper's, reference)", "1",
            {"enum": ["implicit", "explicit"]}),
     _param("dx_max", "dx_{max}", "implicit solver: largest displacement of a link end per step", "R",

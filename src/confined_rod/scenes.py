@@ -32,6 +32,7 @@ from .quantities import QUANTITIES
 DEFAULT_L0 = 0.5  # R
 DEFAULT_K_PH = 1000.0  # EI/R^2: axial strain load/k_ph = 2.5e-4 at load 0.25
 DEFAULT_K_W = 1000.0  # EI/R^3 per link end: penetration <= N/k_w
+DEFAULT_K_T = 0.1  # x k_w: stick stiffness of the implicit solver's friction (docs/model.md, "implicit solver")
 DEFAULT_FRICTION_CAP = 0.1  # EI/R^3, friction per unit length; 8x the bulk k_fr K at load 0.25
 DEFAULT_PERTURBATION = 1e-3  # R
 DEFAULT_KICK = 0.1  # R
@@ -88,6 +89,10 @@ class Scene:
       seed         random seed of the perturbation
     Numerics:
       l0, k_ph, k_w  link length, stretching stiffness (k = k_ph/l0), wall penalty
+      k_t           implicit: stick stiffness of the wall friction per link: a stuck link is
+                    held by a tangential spring k_t to its anchor and slips once the spring
+                    force reaches k_fr N (default k_w/10; rigid stick as k_t -> inf, which
+                    the explicit scheme has)
       solver        'implicit' (backward Euler with Newton steps, the fast default) or
                     'explicit' (the paper's forward Euler, the reference)
       dx_max        implicit: largest displacement of a link end per step (R); the
@@ -130,6 +135,7 @@ class Scene:
     l0: float | None = None
     k_ph: float | None = None
     k_w: float | None = None
+    k_t: float | None = None
     solver: str = "implicit"
     dx_max: float | None = None
     dt_factor: float = 0.8
@@ -341,7 +347,7 @@ def _validate(s: Scene) -> None:
     real("snapshot_growth", positive=True)
     if not s.snapshot_growth >= 1.0:
         fail("snapshot_growth", "must be >= 1 (1: snapshots at a fixed interval; > 1: at geometrically growing times)")
-    for key in ("l0", "k_ph", "k_w", "perturbation", "kick", "t_max", "pore_length", "dx_max"):
+    for key in ("l0", "k_ph", "k_w", "k_t", "perturbation", "kick", "t_max", "pore_length", "dx_max"):
         real(key, positive=True, allow_none=True)
     real("friction_cap", nonneg=True, allow_none=True)
     real("dt_factor", positive=True)
@@ -391,6 +397,9 @@ def _validate(s: Scene) -> None:
         v = getattr(s, key)
         own = v is None or (isinstance(v, _Default) and source is not None and v.origin is source)
         object.__setattr__(s, key, _Default(default, origin) if own else float(v))
+    v = s.k_t  # follows k_w (given or default)
+    own = v is None or (isinstance(v, _Default) and source is not None and v.origin is source)
+    object.__setattr__(s, "k_t", _Default(DEFAULT_K_T * s.k_w, origin) if own else float(v))
     object.__setattr__(s, "_origin", origin)
     for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval", "snapshot_growth",
                 "ramp_start"):

@@ -2,8 +2,8 @@
 Richardson limit and the check of the publication setting (rule ``convergence_check``).
 
   The scenes differ in one numerical parameter
-(l0, k_ph, k_w or tol).  Its refinement variable h -> 0 is l0, 1/k_ph, 1/k_w or
-tol.  From the three finest rungs h1 > h2 > h3 (ratio r = h1/h2 = h2/h3) and an
+(l0, k_ph, k_w, k_t, tol or ramp_steps).  Its refinement variable h -> 0 is l0,
+1/k_ph, 1/k_w, 1/k_t, tol or 1/ramp_steps.  From the three finest rungs h1 > h2 > h3 (ratio r = h1/h2 = h2/h3) and an
 observable f, Richardson extrapolation gives
 
     observed order  p = ln((f1 - f2)/(f2 - f3)) / ln r
@@ -58,7 +58,7 @@ from ._common import same_except
 
 REFINEMENT = {"l0": ("h = l0", lambda v: v), "tol": ("h = tol", lambda v: v),
               "k_ph": ("h = 1/k_ph", lambda v: 1.0 / v), "k_w": ("h = 1/k_w", lambda v: 1.0 / v),
-              "ramp_steps": ("h = 1/n_ramp", lambda v: 1.0 / v)}
+              "k_t": ("h = 1/k_t", lambda v: 1.0 / v), "ramp_steps": ("h = 1/n_ramp", lambda v: 1.0 / v)}
 OBSERVABLES = ("F_transmitted", "L_z", "pitch")
 OPTIONS = {
     "parameter": {"enum": list(REFINEMENT), "description": "the numerical parameter the rungs differ in"},
@@ -518,7 +518,7 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
 
 
 _H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w": r"$h = 1/k_w$ [$R^3/EI$]",
-            "tol": r"$h = \mathrm{tol}$", "ramp_steps": r"$h = 1/n_{ramp}$"}
+            "k_t": r"$h = 1/k_t$ [$R^3/EI$]", "tol": r"$h = \mathrm{tol}$", "ramp_steps": r"$h = 1/n_{ramp}$"}
 
 
 def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> None:

@@ -12,21 +12,31 @@ contact and stick/slip pattern it implies is nearly the final one).
 Coulomb friction.  The exact dissipation f_max |v| of a link on the wall is not
 differentiable where every slip starts (v = 0).  The solver uses its Moreau
 envelope about a stick anchor: a stuck link is held by a tangential spring of
-stiffness k_t = k_w to its anchor, with the force capped at f_max = min(k_fr N,
+stiffness k_t to its anchor, with the force capped at f_max = min(k_fr N,
 cap); beyond the cap the link slides with friction exactly f_max against its
 slip and drags its anchor along.  Stuck links therefore do not creep (their
-anchor does not move while |F_t| < f_max); they sit within f_max/k_t (< 1e-4 R
-at the defaults) of their anchor, where the explicit scheme holds them rigidly.
-The equilibrium conditions (|F_t| <= f_max on stuck links) are the same.
+anchor does not move while |F_t| < f_max); they sit within f_max/k_t of their
+anchor, where the explicit scheme holds them rigidly.  The equilibrium
+conditions (|F_t| <= f_max on stuck links) are the same.
+
+Stick stiffness.  k_t (Scene.k_t, default k_w/100) sets how far a stuck link
+may sit from its anchor, f_max/k_t (<= 1e-3 R at load 0.25; the equilibrium
+condition |F_t| <= f_max is the same for any k_t).  It also sets how far a
+Newton step carries a change of axial force into a stuck stretch: through a
+chain of bonds k_ph/l0 held by springs k_t, over sqrt(k_ph/(l0 k_t)) links.
+Where a slip front runs along the rod, Newton moves it that many links per
+iteration; at k_t = k_w (4.5 links at the publication numerics) a front
+crossing 100 links of an L/R = 640 rod took ~20 iterations of one step, at
+k_w/100 (45 links) a few (docs/model.md, "implicit solver").
 
 Step-size control: a step is accepted only if Newton converged (an indefinite
 Hessian is shifted, Levenberg-Marquardt, until it factorises) and no link end
-moved more than ``2 dx_max``; the next step is
-scaled by 0.9 dx_max / (largest displacement), at most doubled, and halved
-after a step that needed more than NEWTON_SLOW Newton iterations (where the
-contact or stick/slip pattern changes along the rod, Newton resolves it a few
-links per iteration; a shorter step changes less of it and starts closer).  A
-failed step is retried with dt/4.  dx_max is the accuracy knob: it bounds how far the path
+moved more than ``2 dx_max``; the next step is scaled by 0.9 dx_max / (largest
+displacement), at most doubled.  A failed step is retried with dt/4.  (An earlier
+rule also halved dt after a step of more than 10 Newton iterations; where a slip
+front runs along a long rod every step needs that many, and dt shrank until the
+rod crept: L/R = 640 took 4x the steps. ``newton_slow`` keeps it for the
+benchmark's same-run comparison.)  dx_max is the accuracy knob: it bounds how far the path
 may be cut short between two evaluations of the normal forces and the contact
 set.  Near equilibrium the displacements vanish and dt grows without bound, so a
 run ends in a few steps once the shape has settled.
@@ -54,8 +64,8 @@ NEWTON_TOL = 0.3  # Newton stops at a step residual of NEWTON_TOL * tol (normali
 NEWTON_ETA = 1e-2  # ... or, during the approach, at NEWTON_ETA x the largest drag force of the step
 SHIFT_START = 1e-8  # indefinite Hessian: first diagonal shift, relative to each diagonal entry
 SHIFT_GROW = 100.0
-NEWTON_SLOW = 10  # a step that needed more Newton iterations than this ...
-SLOW_FACTOR = 0.5  # ... caps the next step at this x its dt
+NORMAL_PASSES = 4  # at most this many re-solves of a step with the friction bound from its end state
+SLOW_FACTOR = 0.5  # newton_slow (benchmark only): a step of more Newton iterations caps the next at this x its dt
 HESSIANS = ("analytic", "fd")  # smooth part of the Newton Hessian: exact (default), or finite differences (the
 # previous method, 15 gradient evaluations per iteration; kept for the benchmark's same-run comparison and the tests)
 
@@ -65,11 +75,13 @@ class StepFailed(Exception):
 
 
 class ImplicitStepper:
-    def __init__(self, scene: Scene, dt: float | None = None, hessian: str = "analytic"):
+    def __init__(self, scene: Scene, dt: float | None = None, hessian: str = "analytic",
+                 newton_slow: int | None = None):
         if hessian not in HESSIANS:
             raise ValueError(f"hessian must be one of {HESSIANS}, got {hessian!r}")
         self.scene = scene
         self.hessian = hessian
+        self.newton_slow = newton_slow  # None: no cut of dt after slow Newton steps (the default)
         self.par = scene.params()
         # the finite-difference Hessian leaves out the one-sided contact penalties
         # (added exactly by contact_hessian)
@@ -100,7 +112,7 @@ class ImplicitStepper:
         self.nu, self.nu1 = np.ones(n), np.ones(n)
         self.fmax = np.zeros(n)
         self.fd_step = np.array([FD_STEP * scene.R] * 3 + [FD_STEP] * 2)
-        self.kt = scene.k_w  # stiffness of the stick spring (N/R per link)
+        self.kt = scene.k_t  # stiffness of the stick spring (EI/R^3 per link)
         self.prev_dr, self.prev_dt_vec = z3(), z3()  # the last accepted step (predictor)
         self.prev_dt = 0.0
         self.last_iterations = 0
@@ -277,8 +289,34 @@ class ImplicitStepper:
             t += a * self.prev_dt_vec
             t /= np.linalg.norm(t, axis=1)[:, None]
         self._newton(r, t, st)
+        if self.use_friction:
+            self._implicit_normal_forces(r, t, st)
         self.last_iterations = st.work["newton_iterations"] - n0
         return r, t
+
+    def _implicit_normal_forces(self, r: np.ndarray, t: np.ndarray, st: RunState) -> None:
+        """Coulomb's bound from the normal forces at the end of the step, not its start: while the
+        limits k_fr N of the links that started the step on the wall differ from those at its
+        solution by more than Newton's tolerance, they are updated and the step solved again
+        (a few passes, each from the last solution). With the bound lagged one step, a link
+        sliding off the wall relaxes by one fixed-point iteration per step; near equilibrium dt
+        doubles per step, so the run reached t_max first (L/R = 400, k_ph = 1e3: 1.5 tol).
+        Only once the rod is nearly at rest (the step's drag below the run's force tolerance):
+        while it moves, the lag is part of the path's first-order error, which dx_max bounds,
+        and re-solving every step tripled the cost of L/R = 640."""
+        if NEWTON_ETA * self.cr * np.abs(r - self.rn).max() > self.gtol_F:
+            return
+        on = self.fmax > 0.0
+        for _ in range(NORMAL_PASSES):
+            evaluate(self.par, r, t, self.ws)
+            f = np.where(on, self.scene.k_fr * self.ws.Nw, 0.0)
+            if self.cap > 0.0:
+                np.minimum(f, self.cap, out=f)
+            if np.abs(f - self.fmax).max() <= self.gtol_F:
+                return
+            self.fmax[:] = f
+            st.count("normal_force_passes")
+            self._newton(r, t, st)
 
     # -- adaptive stepping ---------------------------------------------------------
     def advance(self, st: RunState, t_stop: float) -> int:
@@ -305,7 +343,7 @@ class ImplicitStepper:
             st.steps += 1
             if dt == self.dt:
                 self.dt *= min(GROW_MAX, 0.9 * self.dx_max / d) if d > 0 else GROW_MAX
-                if self.last_iterations > NEWTON_SLOW:
+                if self.newton_slow is not None and self.last_iterations > self.newton_slow:
                     self.dt = min(self.dt, SLOW_FACTOR * dt)
             if K.escaped(st.r, st.t, self.par):
                 return K.STOP_ESCAPED
