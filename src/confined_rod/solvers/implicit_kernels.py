@@ -511,3 +511,34 @@ def update_anchors(r, anchor, frame, fmax, kt):
             s = 1.0 - lim / nd
             for c in range(3):
                 anchor[i, c] += s * (d1 * frame[i, 1, c] + d2 * frame[i, 2, c])
+
+
+@njit(cache=True)
+def stick_model(r, anchor, frame, fmax, kt, p, g, ab):
+    """Active-set guess for the Newton model: links in slip whose step p would carry them back
+    into the stick zone (new offset along the old slip direction u below f_max/k_t) are
+    modelled on the stick branch of the friction potential, (k_t/2)|d|^2, instead of the
+    slip branch, whose only curvature along u is the drag's: in g (a copy of the gradient)
+    f_max u becomes k_t d, in ab the slip Hessian (f_max/|d|)(1 - u u^T) becomes k_t 1.
+    Returns how many links."""
+    count = 0
+    for i in range(r.shape[0]):
+        if fmax[i] <= 0.0:
+            continue
+        d1, d2 = tangential_offset(r, anchor, frame, i)
+        nd = np.sqrt(d1 * d1 + d2 * d2)
+        lim = fmax[i] / kt
+        if nd <= lim:
+            continue
+        j = NDOF * i + 1
+        u1 = d1 / nd
+        u2 = d2 / nd
+        if (d1 + p[j]) * u1 + (d2 + p[j + 1]) * u2 < lim:
+            c = fmax[i] / nd
+            ab[0, j] += kt - c * (1.0 - u1 * u1)
+            ab[1, j] += c * u1 * u2
+            ab[0, j + 1] += kt - c * (1.0 - u2 * u2)
+            g[i, 1] += kt * d1 - fmax[i] * u1
+            g[i, 2] += kt * d2 - fmax[i] * u2
+            count += 1
+    return count
