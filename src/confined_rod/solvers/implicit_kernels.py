@@ -542,3 +542,65 @@ def stick_model(r, anchor, frame, fmax, kt, p, g, ab):
             g[i, 2] += kt * d2 - fmax[i] * u2
             count += 1
     return count
+
+
+@njit(cache=True)
+def contact_model(r, t, frame, e1, e2, par, p, g, ab):
+    """Active-set guess for the Newton model, for the wall: a link end off the wall (or above
+    the entrance) that the step p carries into the wall is modelled in contact, with the
+    penalty (k_w/2)(rho - R)^2 continued to its current point (gradient k_w d n with d < 0,
+    Hessian k_w n n^T), added to g (a copy of the gradient) and ab. Off the wall the model has
+    no wall at all, and the step sent the front of a helix forming along a long rod hundreds
+    of link ends deep into the wall at once (L/R = 1280: 310 ends; line search alpha 0.006).
+    Returns how many ends."""
+    h = par[K.HALF]
+    kw = par[K.K_WALL]
+    hp = np.zeros((3, 3))
+    gp = np.zeros(3)
+    J = np.empty((3, NDOF))
+    n = r.shape[0]
+    count = 0
+    for i in range(n):
+        q = NDOF * i
+        # the most an end of link i can move in the step (|J p| <= |translation| + h |rotation|)
+        reach = (np.sqrt(p[q] ** 2 + p[q + 1] ** 2 + p[q + 2] ** 2)
+                 + h * np.sqrt(p[q + 3] ** 2 + p[q + 4] ** 2))
+        for s in (-1.0, 1.0):
+            px = r[i, 0] + s * h * t[i, 0]
+            py = r[i, 1] + s * h * t[i, 1]
+            pz = r[i, 2] + s * h * t[i, 2]
+            if np.sqrt(px * px + py * py) + reach <= par[K.R_WALL]:
+                continue
+            guided = K.is_guided(i, s, n, par)
+            d, _, _ = K._wall_point(px, py, pz, par, guided)
+            if d > 0.0:
+                continue
+            _end_jacobian(i, s, h, frame, e1, e2, J)
+            dx = 0.0
+            dy = 0.0
+            dz = 0.0
+            for b in range(NDOF):
+                dx += J[0, b] * p[q + b]
+                dy += J[1, b] * p[q + b]
+                dz += J[2, b] * p[q + b]
+            d2, _, _ = K._wall_point(px + dx, py + dy, pz + dz, par, guided)
+            if d2 <= 0.0:
+                continue
+            rho = np.sqrt(px * px + py * py)
+            if rho < 1e-12:
+                continue
+            nx = px / rho
+            ny = py / rho
+            dd = rho - par[K.R_WALL]
+            hp[:, :] = 0.0
+            hp[0, 0] = kw * nx * nx
+            hp[0, 1] = hp[1, 0] = kw * nx * ny
+            hp[1, 1] = kw * ny * ny
+            gp[0] = kw * dd * nx
+            gp[1] = kw * dd * ny
+            gp[2] = 0.0
+            _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
+            for b in range(NDOF):
+                g[i, b] += J[0, b] * gp[0] + J[1, b] * gp[1]
+            count += 1
+    return count
