@@ -209,3 +209,78 @@ def test_exact_and_finite_difference_hessians_give_the_same_equilibrium():
         assert st.converged
         F.append(obs.compute(sc, st.r, st.t).F_transmitted)
     assert abs(F[0] - F[1]) < 2e-5
+
+
+def _frames(r):
+    from confined_rod.solvers import implicit_kernels as IK
+
+    frame = np.zeros((len(r), 3, 3))
+    IK.local_frames(r, frame)
+    return frame
+
+
+def test_stick_model_switches_only_links_the_step_carries_back_into_the_stick_zone():
+    """Constructed: two links on the wall at x = 1 (frame: radial x, azimuthal y, axial z),
+    both in slip along +z (offset 0.01 R from the anchor, f_max/k_t = 1e-3 R). The step moves
+    link 0 back by 0.0095 R (into the stick zone) and link 1 on by 0.005 R (still slipping)."""
+    from confined_rod.solvers import implicit_kernels as IK
+
+    NDOF = IK.NDOF
+    r = np.array([[1.0, 0.0, 0.51], [1.0, 0.0, 1.01]])
+    anchor = r - np.array([0.0, 0.0, 0.01])
+    fmax, kt = np.array([0.1, 0.1]), 100.0
+    p = np.zeros(2 * NDOF)
+    p[2], p[NDOF + 2] = -0.0095, 0.005
+    g = np.zeros((2, NDOF))
+    ab = np.zeros((IK.BAND + 1, 2 * NDOF))
+    assert IK.stick_model(r, anchor, _frames(r), fmax, kt, p, g, ab) == 1
+    # link 0 on the stick branch: gradient k_t d = 1.0 along z instead of f_max = 0.1, curvature
+    # k_t along z and, the slip Hessian's (f_max/|d|)(1 - u u^T) = 10 along phi removed, k_t - 10
+    assert g[0, 2] == pytest.approx(kt * 0.01 - 0.1) and g[0, 1] == 0.0
+    assert ab[0, 2] == pytest.approx(kt) and ab[0, 1] == pytest.approx(kt - 0.1 / 0.01)
+    assert not g[1].any() and not ab[:, NDOF:].any()
+
+
+def test_contact_model_puts_ends_the_step_carries_into_the_wall_in_contact():
+    """Constructed: a link parallel to the axis at radius 0.99 R (ends 0.01 R off the wall) and
+    one on the axis; the step moves both 0.02 R outwards: only the first link's ends reach the
+    wall, and each gets the penalty continued to its point, gradient k_w (rho - R) = -10 radially."""
+    from confined_rod.solvers import implicit_kernels as IK
+
+    sc = Scene(L=4.0, l0=1.0, k_w=1000.0, name="cm")
+    NDOF = IK.NDOF
+    r = np.array([[0.99, 0.0, 1.5], [0.0, 0.0, 2.5]])
+    t = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    frame = _frames(r)
+    e1, e2 = np.zeros((2, 3)), np.zeros((2, 3))
+    IK.tangent_bases(t, e1, e2)
+    p = np.zeros(2 * NDOF)
+    p[0], p[NDOF] = 0.02, 0.02
+    g = np.zeros((2, NDOF))
+    ab = np.zeros((IK.BAND + 1, 2 * NDOF))
+    assert IK.contact_model(r, t, frame, e1, e2, sc.params(), p, g, ab) == 2
+    assert g[0, 0] == pytest.approx(2 * 1000.0 * (0.99 - 1.0))
+    assert ab[0, 0] == pytest.approx(2 * 1000.0)
+    assert not g[1].any() and not ab[:, NDOF:].any()
+
+
+@pytest.mark.parametrize("L", [40.0, 80.0])
+def test_active_set_model_changes_the_work_not_the_path(L, monkeypatch):
+    """The re-solved Newton direction changes how Newton gets to each step's solution, not the
+    solution: |F_z(L)| of a frictional helix the same to 1e-5 (measured 2e-8 at L/R = 40 and
+    4e-7 at 80: the steps' Newton tolerance), fewer gradients."""
+    from confined_rod import observables
+    from confined_rod.solvers import implicit
+
+    out = []
+    for flag in (False, True):
+        monkeypatch.setattr(implicit, "ACTIVE_SET_MODEL", flag)
+        sc = Scene(L=L, load=0.25, k_fr=0.8, k_ph=1e4, seed=1, name="asm")
+        st = implicit.run(sc, progress=False)
+        assert st.converged
+        F = observables.compute(sc, st.r, st.t).F_transmitted
+        out.append((F, st.work["gradients"], st.work.get("active_set_models", 0)))
+    (F0, g0, m0), (F1, g1, m1) = out
+    assert m0 == 0 and m1 > 0
+    assert F1 == pytest.approx(F0, rel=1e-5)
+    assert g1 < g0
