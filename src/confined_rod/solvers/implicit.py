@@ -77,12 +77,13 @@ class StepFailed(Exception):
 
 class ImplicitStepper:
     def __init__(self, scene: Scene, dt: float | None = None, hessian: str = "analytic",
-                 newton_slow: int | None = None):
+                 newton_slow: int | None = None, active_set: bool | None = None):
         if hessian not in HESSIANS:
             raise ValueError(f"hessian must be one of {HESSIANS}, got {hessian!r}")
         self.scene = scene
         self.hessian = hessian
         self.newton_slow = newton_slow  # None: no cut of dt after slow Newton steps (the default)
+        self.active_set = ACTIVE_SET_MODEL if active_set is None else active_set  # False: the plain Newton step
         self.par = scene.params()
         # the finite-difference Hessian leaves out the one-sided contact penalties
         # (added exactly by contact_hessian)
@@ -190,7 +191,7 @@ class ImplicitStepper:
                 return
             self._hessian(r, t)
             p = self._solve(ab, g, st)
-            if ACTIVE_SET_MODEL:
+            if self.active_set:
                 p = self._active_set_model(r, t, g, p, st)
             self._line_search(r, t, p, phi, float(np.dot(g.ravel(), p.ravel())), st)
             r[:] = self.r2
