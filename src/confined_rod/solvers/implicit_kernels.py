@@ -464,7 +464,8 @@ def friction_term(r, anchor, frame, fmax, kt, g, ab, hessian):
 
     Its force is -kt d in stick, bounded by fmax, and exactly fmax against the slip
     in slip.  H is the Moreau envelope of fmax |d|, continuously differentiable,
-    so Newton converges without an active set.  Adds the gradient to g and (if
+    so Newton converges on it without an active set (stick_model's guess only
+    shortens the way).  Adds the gradient to g and (if
     hessian) the Hessian to ab; returns the sum of H."""
     e = 0.0
     for i in range(r.shape[0]):
