@@ -19,15 +19,16 @@ anchor does not move while |F_t| < f_max); they sit within f_max/k_t of their
 anchor, where the explicit scheme holds them rigidly.  The equilibrium
 conditions (|F_t| <= f_max on stuck links) are the same.
 
-Stick stiffness.  k_t (Scene.k_t, default k_w/100) sets how far a stuck link
-may sit from its anchor, f_max/k_t (<= 1e-3 R at load 0.25; the equilibrium
+Stick stiffness.  k_t (Scene.k_t, default k_w/10) sets how far a stuck link
+may sit from its anchor, f_max/k_t (~6e-5 R at load 0.25; the equilibrium
 condition |F_t| <= f_max is the same for any k_t).  It also sets how far a
 Newton step carries a change of axial force into a stuck stretch: through a
 chain of bonds k_ph/l0 held by springs k_t, over sqrt(k_ph/(l0 k_t)) links.
 Where a slip front runs along the rod, Newton moves it that many links per
 iteration; at k_t = k_w (4.5 links at the publication numerics) a front
 crossing 100 links of an L/R = 640 rod took ~20 iterations of one step, at
-k_w/100 (45 links) a few (docs/model.md, "implicit solver").
+k_w/10 (14 links) ~7.  k_t also sets how the force is shared in a stuck stretch,
+so it is converged like k_ph (ladder conv_k_t; docs/model.md, "implicit solver").
 
 Step-size control: a step is accepted only if Newton converged (an indefinite
 Hessian is shifted, Levenberg-Marquardt, until it factorises) and no link end
@@ -148,10 +149,13 @@ class ImplicitStepper:
         # noise in the Hessian would otherwise leak out of the plane
         self.planar = not (np.any(st.r[:, 1]) or np.any(st.t[:, 1]))
         if self.use_friction:
-            evaluate(self.par, self.rn, self.tn, self.ws)
-            self.fmax[:] = self.scene.k_fr * self.ws.Nw
-            if self.cap > 0.0:
-                np.minimum(self.fmax, self.cap, out=self.fmax)
+            self.fmax[:] = self._bound(self.rn, self.tn)
+
+    def _bound(self, r: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Coulomb's bound f_max = min(k_fr N, cap) of every link at (r, t) (new array)."""
+        evaluate(self.par, r, t, self.ws)
+        f = self.scene.k_fr * self.ws.Nw
+        return np.minimum(f, self.cap) if self.cap > 0.0 else f
 
     def _phi(self, r, t, nu, g) -> float:
         """Phi and its gradient (into g) at (r, t)."""
@@ -339,10 +343,7 @@ class ImplicitStepper:
             return
         on = self.fmax > 0.0
         for _ in range(NORMAL_PASSES):
-            evaluate(self.par, r, t, self.ws)
-            f = np.where(on, self.scene.k_fr * self.ws.Nw, 0.0)
-            if self.cap > 0.0:
-                np.minimum(f, self.cap, out=f)
+            f = np.where(on, self._bound(r, t), 0.0)
             if np.abs(f - self.fmax).max() <= self.gtol_F:
                 return
             self.fmax[:] = f
@@ -350,7 +351,7 @@ class ImplicitStepper:
             self._newton(r, t, st)
         # still apart (a link whose normal force moves with its own friction: the passes contract
         # slowly): the next step is not longer than this one, so that the run settles over more
-        # steps instead of doubling dt to t_max (L/R = 320 seed 4: t_max at 400 tol)
+        # steps instead of doubling dt to t_max (L/R = 320 seed 4: t_max at 40 tol)
         self.bound_lags = True
 
     # -- adaptive stepping ---------------------------------------------------------
