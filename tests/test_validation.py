@@ -86,3 +86,19 @@ def test_cli_runs_a_scene(tmp_path):
         assert ds.attrs["name"] == "short"
         assert int(ds.converged) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["short.nc", "short.yaml"]
+
+
+def test_the_stick_stiffness_follows_k_w_unless_given():
+    """k_t defaults to k_w/10, also when k_w is given or replaced; a given k_t stays; k_t <= 0 is
+    refused naming the key."""
+    import dataclasses
+
+    from confined_rod import Scene
+    from confined_rod.errors import SceneError
+
+    assert Scene().k_t == pytest.approx(0.1 * Scene().k_w)
+    assert Scene(k_w=500.0).k_t == pytest.approx(50.0)
+    assert dataclasses.replace(Scene(), k_w=200.0).k_t == pytest.approx(20.0)
+    assert dataclasses.replace(Scene(k_t=3.0), k_w=200.0).k_t == 3.0
+    with pytest.raises(SceneError, match="'k_t': 0"):
+        Scene(k_t=0)

@@ -60,11 +60,16 @@ def scene_params(config: dict[str, Any], figure: str, scene: str) -> dict[str, A
 _SCENES: dict[str, Scene] = {}
 
 
+def _text(params: dict[str, Any]) -> str:
+    """Scene parameters as text, independent of their order (a memo key)."""
+    return repr(sorted(params.items(), key=lambda kv: str(kv[0])))
+
+
 def build_scene(config: dict[str, Any], figure: str, scene: str) -> Scene:
     """The validated Scene of one scene of the config, memoised by its parameters (a Scene is
     immutable; a DAG build asks for each one several times: priority, run time, the file check)."""
     params = scene_params(config, figure, scene)
-    key = repr(sorted(params.items(), key=lambda kv: str(kv[0])))
+    key = _text(params)
     if key not in _SCENES:
         try:
             _SCENES[key] = Scene.from_dict(params)
@@ -192,7 +197,7 @@ def _resolved(params: dict[str, Any]) -> tuple[dict[str, Any], str]:
     meets and every file it checks. Parameters that build no Scene are taken as they are."""
     raw = dict(params)
     raw.pop("name", None)
-    raw_key = repr(sorted(raw.items(), key=lambda kv: str(kv[0])))
+    raw_key = _text(raw)
     if raw_key not in _KEYS:
         try:
             d = Scene.from_dict(dict(params)).to_dict()

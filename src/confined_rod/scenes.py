@@ -393,13 +393,15 @@ def _validate(s: Scene) -> None:
         "pore_length": float(s.L), "dx_max": DEFAULT_DX_MAX * R,
     }
     source, origin = s._origin, object()  # the scene replaced (None if made afresh), and this one
-    for key, default in resolved.items():
+
+    def resolve(key: str, default: float) -> None:
         v = getattr(s, key)
         own = v is None or (isinstance(v, _Default) and source is not None and v.origin is source)
         object.__setattr__(s, key, _Default(default, origin) if own else float(v))
-    v = s.k_t  # follows k_w (given or default)
-    own = v is None or (isinstance(v, _Default) and source is not None and v.origin is source)
-    object.__setattr__(s, "k_t", _Default(DEFAULT_K_T * s.k_w, origin) if own else float(v))
+
+    for key, default in resolved.items():
+        resolve(key, default)
+    resolve("k_t", DEFAULT_K_T * s.k_w)  # follows k_w, given or default
     object.__setattr__(s, "_origin", origin)
     for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval", "snapshot_growth",
                 "ramp_start"):
