@@ -222,11 +222,11 @@ class ImplicitStepper:
         in 21 800; 37 000 in 17 400). The true gradient is kept for the line search, and the
         new direction only if it descends."""
         gm = g.copy()
-        keep = self.p.copy()
         n = IK.stick_model(r, self.anchor, self.frame, self.fmax, self.kt, self.p, gm, self.ab) if self.use_friction else 0
         n += IK.contact_model(r, t, self.frame, self.e1, self.e2, self.par, self.p, gm, self.ab)
         if n == 0:
             return p
+        keep = self.p.copy()  # the kernels read p and change only gm and ab
         st.count("active_set_models")
         p = self._solve(self.ab, gm, st)
         if not float(np.dot(g.ravel(), p.ravel())) < 0.0:
