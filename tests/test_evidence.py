@@ -127,7 +127,8 @@ def test_swapped_and_stale_files_are_rebuilt_without_snakemakes_metadata(tmp_pat
                 _sim_file(tmp_path / path, wanted)
     sources = [f"results/paper/{n}" for n in ("numbers.tex", "claims_table.tex", "readings_table.tex",
                                                 "figures.tex", "expected.json")]
-    for kind in ("sims", "datasets", "figures", "checks", "paper", "sources"):
+    outs["batches"] = pipeline.batch_outputs(expanded)                            # a built tree has them
+    for kind in ("sims", "batches", "datasets", "figures", "checks", "paper", "sources"):
         for p in outs.get(kind, sources):
             (tmp_path / p).parent.mkdir(parents=True, exist_ok=True)
             if not (tmp_path / p).exists():
@@ -147,7 +148,7 @@ def test_swapped_and_stale_files_are_rebuilt_without_snakemakes_metadata(tmp_pat
     _sim_file(path4, {**pipeline.wanted_scene(expanded, fig4, s4), "load": 0.2})
     os.utime(path4, ns=(1, 1))
     msg, planned = _planned(tmp_path)
-    assert planned.get("simulate") == 2, msg[-3000:]
+    assert planned.get("simulate") == 2 and planned.get("batch", 0) == 0, msg[-3000:]  # each alone
     assert f"{pipeline.sim_path(f, s20)} holds name = '{f}/{s40}'" in msg
     assert "holds load = 0.2 but the config asks for load = 0.25" in msg
     assert planned.get("postprocess", 0) >= 2, msg[-3000:]

@@ -2,7 +2,9 @@
 
 Reads results/benchmarks/<rule>/.../*.tsv (one per job: wall seconds first) and
 writes a JSON summary: the wall time of the whole build (if given), the number
-of jobs and the summed job seconds per rule, and the longest jobs.
+of jobs and the summed job seconds per rule, the longest jobs, and what running a
+scene costs beyond its solver (``run_overhead``: the job seconds of the rules that run
+scenes, batch, simulate and probe, less the solver times their datasets store, per scene).
 
 Usage: python tools/build_times.py [--results results] [--wall SECONDS] [--note TEXT]
                                    [-o benchmarks/results/publication_build.json]
@@ -29,6 +31,24 @@ def job_times(results: Path) -> list[dict]:
     return rows
 
 
+SCENE_RULES = ("batch", "simulate", "probe")
+
+
+def run_overhead(results: Path, jobs: list[dict]) -> dict:
+    """Job seconds of the scene-running rules beyond the solver times stored in their datasets."""
+    import netCDF4
+
+    solver, scenes = 0.0, 0
+    for sub in ("sims", "probes"):
+        for nc in (results / sub).rglob("*.nc"):
+            with netCDF4.Dataset(nc) as ds:
+                solver += float(ds["wall_time"][...]) if "wall_time" in ds.variables else 0.0
+            scenes += 1
+    job_s = sum(j["s"] for j in jobs if j["rule"] in SCENE_RULES)
+    return {"scenes": scenes, "job_s": job_s, "solver_s": solver,
+            "per_scene_s": (job_s - solver) / scenes if scenes else None}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--results", default="results")
@@ -48,12 +68,17 @@ def main() -> None:
     out = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(), "note": args.note,
            "wall_s": args.wall, "jobs": len(jobs), "job_s_total": sum(j["s"] for j in jobs),
            "rules": dict(sorted(rules.items(), key=lambda kv: -kv[1]["job_s"])),
-           "longest_jobs": sorted(jobs, key=lambda j: -j["s"])[:15]}
+           "longest_jobs": sorted(jobs, key=lambda j: -j["s"])[:15],
+           "run_overhead": run_overhead(Path(args.results), jobs)}
     Path(args.output).parent.mkdir(parents=True, exist_ok=True)
     Path(args.output).write_text(json.dumps(out, indent=1))
     for name, r in out["rules"].items():
         print(f"{name:20s} {r['jobs']:4d} jobs {r['job_s']:8.1f} s (longest {r['longest_s']:.1f} s)")
     print(f"total {out['job_s_total']:.1f} job-s in {len(jobs)} jobs; wall {args.wall} s")
+    o = out["run_overhead"]
+    if o["scenes"]:
+        print(f"running {o['scenes']} scenes: {o['job_s']:.1f} job-s, {o['solver_s']:.1f} s in their solvers, "
+              f"{o['per_scene_s']:.2f} s per scene beyond them")
 
 
 if __name__ == "__main__":

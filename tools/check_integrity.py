@@ -65,6 +65,7 @@ def main(argv=None) -> int:
             rel = {p: str(p.relative_to(ROOT)) for p in (source, target, cut)}
             checks = {
                 "exactly the two simulations are planned": plan.get("simulate", 0) == 2,
+                "each alone: no batch runs again": plan.get("batch", 0) == 0,
                 "the swapped file is named with the scene it holds":
                     f"{rel[target]} holds name = '{fig}/{source.stem}'" in text,
                 "the cut file is named as unreadable": f"{rel[cut]}: cannot be read" in text,
@@ -84,7 +85,25 @@ def main(argv=None) -> int:
     ok = not plan
     failures += not ok
     print(f"{'ok  ' if ok else 'FAIL'} restored: nothing left to do" + ("" if ok else f" (would run {plan})"))
+    failures += deleted_member(config, config_path)
     return 1 if failures else 0
+
+
+def deleted_member(config: dict, config_path: str) -> int:
+    """A deleted member of a batch is run again alone (the batch's other members are kept)."""
+    fig, members = next((f, m) for f in pipeline.figures(config) for m in pipeline.batches(config, f).values()
+                        if pipeline.run_kind(config, f) == "simulate")
+    member = ROOT / pipeline.sim_path(fig, members[-1])
+    with tempfile.TemporaryDirectory() as tmp:
+        keep = Path(tmp) / "member.nc"
+        shutil.move(member, keep)
+        try:
+            plan, text = dry_run(config_path)
+        finally:
+            shutil.move(keep, member)
+    ok = plan.get("simulate", 0) == 1 and plan.get("batch", 0) == 0
+    print(f"{'ok  ' if ok else 'FAIL'} a deleted batch member ({fig}/{members[-1]}) runs again alone: {plan}")
+    return int(not ok)
 
 
 def _meta_name(path: Path) -> str:

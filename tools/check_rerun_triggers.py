@@ -25,30 +25,31 @@ SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 # (a figure kind's module holds its dataset builder and its plot: editing it re-runs that
 # kind's datasets and figures, never a simulation)
 PROBES = {
-    PKG / "plotting.py": ({"figure"}, {"simulate", "probe", "load_path", "postprocess"}),
-    PKG / "fits.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
-    PKG / "measure.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
-    PKG / "regions.py": ({"postprocess", "figure"}, {"simulate", "probe", "load_path"}),
-    PKG / "torque.py": ({"postprocess", "figure", "claims"}, {"simulate", "probe", "load_path"}),
+    PKG / "plotting.py": ({"figure"}, {"simulate", "batch", "probe", "load_path", "postprocess"}),
+    PKG / "fits.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
+    PKG / "measure.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
+    PKG / "regions.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
+    PKG / "torque.py": ({"postprocess", "figure", "claims"}, {"simulate", "batch", "probe", "load_path"}),
     PKG / "figures" / "force_profile.py": ({"postprocess", "figure"},
-                                           {"simulate", "probe", "load_path", "convergence_check"}),
+                                           {"simulate", "batch", "probe", "load_path", "convergence_check"}),
     PKG / "figures" / "pitch_profile.py": ({"postprocess", "figure"},
-                                           {"simulate", "probe", "load_path", "convergence_check"}),
+                                           {"simulate", "batch", "probe", "load_path", "convergence_check"}),
     PKG / "figures" / "bifurcation.py": ({"postprocess", "figure"},
-                                         {"simulate", "probe", "load_path", "convergence_check"}),
+                                         {"simulate", "batch", "probe", "load_path", "convergence_check"}),
     PKG / "figures" / "convergence.py": ({"postprocess", "convergence_check", "figure"},
-                                         {"simulate", "probe", "load_path"}),
+                                         {"simulate", "batch", "probe", "load_path"}),
     # a helper shared by kinds: side_strip, imported by the transition and escape kinds
     PKG / "figures" / "helix_views.py": ({"postprocess", "figure"},
-                                         {"simulate", "probe", "load_path", "convergence_check"}),
+                                         {"simulate", "batch", "probe", "load_path", "convergence_check"}),
     PKG / "paths.py": ({"load_path"}, set()),
+    PKG / "runs.py": ({"simulate", "batch", "probe"}, set()),
     # the manuscript: its generated parts and the claims re-run, never a simulation or a dataset
     PKG / "paper.py": ({"paper_sources", "paper"},
-                       {"simulate", "probe", "load_path", "postprocess", "figure", "claims"}),
-    PKG / "claims.py": ({"claims", "paper_sources", "paper"}, {"simulate", "probe", "load_path", "postprocess"}),
-    PKG / "model" / "kernels.py": ({"simulate", "postprocess", "figure"}, set()),
-    PKG / "solvers" / "explicit.py": ({"simulate"}, set()),
-    PKG / "solvers" / "implicit.py": ({"simulate"}, set()),
+                       {"simulate", "batch", "probe", "load_path", "postprocess", "figure", "claims"}),
+    PKG / "claims.py": ({"claims", "paper_sources", "paper"}, {"simulate", "batch", "probe", "load_path", "postprocess"}),
+    PKG / "model" / "kernels.py": ({"simulate", "batch", "postprocess", "figure"}, set()),
+    PKG / "solvers" / "explicit.py": ({"simulate", "batch"}, set()),
+    PKG / "solvers" / "implicit.py": ({"simulate", "batch"}, set()),
 }
 # how many figures a one-kind edit may re-run at most (the kind's own figures, not all)
 ONE_KIND = {PKG / "figures" / "pitch_profile.py": 1, PKG / "figures" / "bifurcation.py": 1}

@@ -16,8 +16,8 @@ complete local build of the same config in this checkout (results/ is the refere
    ``--slurm-status-command squeue``: without accounting sacct cannot answer), checks that
    every job ran as a SLURM job (squeue lists it COMPLETED) and compares every dataset with
    the local build, bitwise, run times and provenance stamps aside (tools/kill_resume.py).
-3. Time limit: builds KILL_TARGET with a deliberately tiny runtime for its rule
-   (``--set-resources probe:runtime=1``: one minute, SLURM's smallest limit; the job's
+3. Time limit: builds KILL_TARGET with a deliberately tiny runtime for the rule of its batch
+   (``--set-resources batch:runtime=1``: one minute, SLURM's smallest limit; the job's
    TimeLimit must read 00:01:00). Once the job runs, it is made to hang (``scancel
    --signal=STOP``) and its limit is cut to zero (``scontrol update TimeLimit=0``): SLURM
    checks limits every 30 s, so this ends it as at its time limit (state TIMEOUT, "CANCELLED
@@ -52,10 +52,11 @@ PARTITION = "ci"
 #: datasets built through SLURM and compared with the local build: Fig 7's seed ensemble
 #: (three simulations and the dataset), Fig 4's three panels and its dataset
 TARGETS = ("results/datasets/fig7_tiny_force.nc", "results/datasets/fig4_Fonl.nc")
-#: the job killed at its time limit: a stability-map probe that runs about 10 s
+#: the job killed at its time limit: the batch that runs a stability-map probe (the CI config's
+#: 40 probes run as one batch of about 20 s; its name and log are read
+#: from the config: batch_of_kill_target)
 KILL_TARGET = "results/probes/stability_map/explicit-l0-0p25.nc"
-KILL_RULE, KILL_SCENE = "probe", "explicit-l0-0p25"
-KILL_LOG = "results/logs/probe/stability_map/explicit-l0-0p25.log"
+KILL_RULE = "batch"
 DAEMONS = ("slurmd", "slurmctld", "munged")
 SYSTEM_CONF = Path("/etc/slurm/slurm.conf")
 
@@ -196,12 +197,26 @@ def compare(reference: Path, work: Path, files: list[str]) -> dict[str, list[str
     return diffs
 
 
+def batch_of_kill_target(config: str) -> tuple[str, str]:
+    """(the name of the batch that runs KILL_TARGET, that batch's log)."""
+    sys.path.insert(0, str(ROOT / "src"))
+    from confined_rod import pipeline
+
+    cfg = pipeline.expand(pipeline.read_config(ROOT / config))
+    figure, scene = Path(KILL_TARGET).parent.name, Path(KILL_TARGET).stem
+    batch = pipeline.batch_of(cfg, figure, scene)
+    if batch is None:
+        raise SystemExit(f"{KILL_TARGET} is in no batch of {config}: pick a target that is")
+    return batch, pipeline.batch_log("probe", figure, batch)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config", nargs="?", default="config/ci.yaml")
     ap.add_argument("-o", "--output", help="also write the JSON summary here")
     args = ap.parse_args(argv)
     summary: dict = {"config": args.config, "targets": list(TARGETS)}
+    kill_scene, kill_log = batch_of_kill_target(args.config)
     t_all = time.perf_counter()
     cluster = Cluster()
     ok = False
@@ -236,12 +251,12 @@ def main(argv=None) -> int:
             deadline = time.time() + 120
             while job is None and proc.poll() is None and time.time() < deadline:
                 for jid, state, comment in cluster.jobs():
-                    if state == "RUNNING" and f"rule_{KILL_RULE}" in comment and KILL_SCENE in comment:
+                    if state == "RUNNING" and f"rule_{KILL_RULE}" in comment and kill_scene in comment:
                         job = jid
                 time.sleep(0.2)
             if job is None:
                 proc.kill()
-                raise RuntimeError(f"the {KILL_RULE} job of {KILL_SCENE} was never seen running:\n"
+                raise RuntimeError(f"the {KILL_RULE} job of {kill_scene} was never seen running:\n"
                                    + (proc.communicate()[0] or "")[-3000:])
             shown = subprocess.run(["scontrol", "show", "job", job], env=env, capture_output=True, text=True).stdout
             limit = re.search(r"TimeLimit=(\S+)", shown)
@@ -258,8 +273,8 @@ def main(argv=None) -> int:
             summary["timeout_slurm_log_tail"] = logs[0].read_text().splitlines()[-12:] if logs else []
             summary["timeout"] = {
                 "job": job, "slurm_state": state, "build_exit": proc.returncode,
-                "reported_rule": f"rule {KILL_RULE}" in out, "reported_scene": KILL_SCENE in out,
-                "reported_log": KILL_LOG in out, "reported_timeout": "TIMEOUT" in out,
+                "reported_rule": f"rule {KILL_RULE}" in out, "reported_scene": kill_scene in out,
+                "reported_log": kill_log in out, "reported_timeout": "TIMEOUT" in out,
                 "output_left": (work / KILL_TARGET).exists(),
                 "seconds_to_failure": round(time.perf_counter() - t0, 1)}
             msg = [line.strip() for line in out.splitlines() if re.search(r"Error in rule|TIMEOUT|log:", line)]

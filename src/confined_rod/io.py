@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import functools
 import os
 import platform
 import subprocess
@@ -19,8 +20,11 @@ UNITS_NOTE = ("units are combinations of the scene's cylinder radius R and bendi
               "(and beta_ph, the drag per length, for time); with R = EI = 1 they are the internal units")
 
 
+@functools.cache
 def git_commit() -> str:
-    """Commit of the source tree the package was imported from ('-dirty' if modified)."""
+    """Commit of the source tree the package was imported from ('-dirty' if modified), read once
+    per process (the code a process runs is the code it imported; a batch of scenes would
+    otherwise ask git twice per dataset)."""
     env = os.environ.get("CONFINED_ROD_GIT_COMMIT")
     if env:
         return env
@@ -38,6 +42,11 @@ def git_commit() -> str:
 def provenance() -> dict[str, str]:
     """Package version, git commit and library versions (read from the installed
     distributions, so post-processing records numba's version without importing it)."""
+    return dict(_provenance())
+
+
+@functools.cache
+def _provenance() -> dict[str, str]:
     from importlib.metadata import PackageNotFoundError, version
 
     from . import __version__

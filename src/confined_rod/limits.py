@@ -240,14 +240,26 @@ def state_violations(scene, r: np.ndarray, t: np.ndarray) -> list[str]:
 
 
 # -- cost -------------------------------------------------------------------------------
-def estimated_wall_time(scene) -> float:
-    """Rough wall time of a run on one core of the reference machine (seconds),
-    from measured runs: implicit, L/R = 640, 1280 links, k_fr = 0.8: 29 s, growing
-    as N^1.8 (frictionless runs are faster); explicit, L/R = 80 at l0 = 0.5 R,
-    k_ph = 1e3: 7 min, growing as L^2.5 and as the step shrinks (1/l0^3, 1/k_ph)."""
+#: what a job costs beyond its solver: the interpreter, the imports (xarray, numba), loading numba's
+#: cache and Snakemake's script preamble, measured 1.8-2.0 s per job (benchmarks/bench_startup.py)
+JOB_STARTUP_S = 2.0
+
+
+def estimated_solver_time(scene) -> float:
+    """Rough time of a run's solver on one core of the reference machine (seconds), from
+    measured runs (benchmarks/results/publication.json): implicit at the publication numerics,
+    L/R = 640 at l0 = 0.5 R (1280 links), k_fr = 0.8: 6.3 s, growing as N^1.9 (frictionless runs
+    are faster); explicit, L/R = 80 at l0 = 0.5 R, k_ph = 1e3: 7 min, growing as L^2.5 and as
+    the step shrinks (1/l0^3, 1/k_ph)."""
     n = scene.L / scene.l0
     if scene.solver == "implicit":
-        return 29.0 * (n / 1280.0) ** 1.8 + 1.0
+        return 6.3 * (n / 1280.0) ** 1.9
     k_rel = max(1.0, scene.k_ph * scene.R**2 / scene.EI / 1e3)
     return 420.0 * (scene.L / scene.R / 80.0) ** 2.5 * (0.5 * scene.R / scene.l0) ** 3 * k_rel \
-        * (0.8 / scene.dt_factor) + 1.0
+        * (0.8 / scene.dt_factor)
+
+
+def estimated_wall_time(scene) -> float:
+    """Rough wall time of a job that runs this scene alone (seconds): its solver and the job's
+    start-up (JOB_STARTUP_S)."""
+    return estimated_solver_time(scene) + JOB_STARTUP_S

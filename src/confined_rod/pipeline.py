@@ -237,6 +237,125 @@ def figure_sims(config: dict[str, Any], figure: str) -> list[str]:
     return [sim_path(*canonical_scene(config, figure, s)) for s in scenes(config, figure)]
 
 
+# -- batches: the small scenes of a figure run in one process (rule batch; confined_rod.runs) --
+#: estimated solver seconds (limits.estimated_solver_time) a batch holds at most: a job's start-up
+#: (limits.JOB_STARTUP_S, ~2 s) is then at most a tenth of its work, while a long build still
+#: spreads over its cores (a scene estimated above this runs alone)
+BATCH_S = 20.0
+_BATCHES: dict[int, tuple[dict[str, Any], tuple, dict[str, Any]]] = {}
+
+
+def run_kind(config: dict[str, Any], figure: str) -> str | None:
+    """The rule that runs a figure's scenes, 'simulate' or 'probe' (None for load paths)."""
+    source = kinds.source(config["figures"][figure]["kind"])
+    return source if source in ("simulate", "probe") else None
+
+
+def solver_estimate(config: dict[str, Any], figure: str, scene: str) -> float:
+    """limits.estimated_solver_time of a scene of the config (0 for input that builds no Scene)."""
+    from .limits import estimated_solver_time
+
+    try:
+        return estimated_solver_time(build_scene(config, figure, scene))
+    except ConfigError:  # a probe of deliberately invalid input stops at once
+        return 0.0
+
+
+def plan_batches(names: list[str], cost: list[float], budget: float = BATCH_S) -> list[list[str]]:
+    """Consecutive scenes (declaration order: a seed ensemble's members are neighbours) packed
+    into batches of at most ``budget`` estimated seconds; a scene above it is a batch of its own."""
+    out: list[list[str]] = []
+    total = 0.0
+    for name, c in zip(names, cost):
+        if out and total + c <= budget:
+            out[-1].append(name)
+            total += c
+        else:
+            out.append([name])
+            total = c
+    return out
+
+
+def batch_name(members: list[str]) -> str:
+    """A batch is named by its first and last member (stable while they stay neighbours)."""
+    return members[0] if len(members) == 1 else f"{members[0]}-to-{members[-1]}"
+
+
+def _batch_index(config: dict[str, Any]) -> dict[str, Any]:
+    """{'batches': {figure: {batch: [scenes]}}, 'of': {(figure, scene): batch}} for the scenes each
+    figure runs itself (a shared scene runs in its first figure); single-scene batches are left
+    out (such a scene runs in its own job). Built once per config, as the canonical index."""
+    stamp = _config_stamp(config)
+    cached = _BATCHES.get(id(config))
+    if cached is None or cached[0] is not config or cached[1] != stamp:
+        index: dict[str, Any] = {"batches": {}, "of": {}}
+        for f in figures(config):
+            kind = run_kind(config, f)
+            if kind is None:
+                continue
+            own = [s for s in scenes(config, f) if kind == "probe" or canonical_scene(config, f, s) == (f, s)]
+            for members in plan_batches(own, [solver_estimate(config, f, s) for s in own]):
+                if len(members) > 1:
+                    name = batch_name(members)
+                    index["batches"].setdefault(f, {})[name] = members
+                    index["of"].update({(f, s): name for s in members})
+        _BATCHES[id(config)] = cached = (config, stamp, index)
+    return cached[2]
+
+
+def batches(config: dict[str, Any], figure: str) -> dict[str, list[str]]:
+    """The batches of a figure: name -> its scenes (scenes that run alone are in none)."""
+    return _batch_index(config)["batches"].get(figure, {})
+
+
+def batch_of(config: dict[str, Any], figure: str, scene: str) -> str | None:
+    return _batch_index(config)["of"].get((figure, scene))
+
+
+def batch_manifest(kind: str, figure: str, batch: str) -> str:
+    return str(RESULTS / "batches" / kind / figure / f"{batch}.json")
+
+
+def batch_log(kind: str, figure: str, batch: str) -> str:
+    return str(RESULTS / "logs" / "batch" / kind / figure / f"{batch}.log")
+
+
+def batch_member(kind: str, figure: str, batch: str, scene: str) -> str:
+    """Where a batch leaves a member's dataset, for the member's own job to move into place."""
+    return str(RESULTS / "batches" / kind / figure / batch / f"{scene}.nc")
+
+
+def run_file(kind: str, figure: str, scene: str) -> str:
+    return sim_path(figure, scene) if kind == "simulate" else probe_path(figure, scene)
+
+
+def member_batch(config: dict[str, Any], kind: str, figure: str, scene: str) -> list[str]:
+    """[the manifest of the batch that runs this scene], or [] if it runs alone."""
+    batch = batch_of(config, figure, scene)
+    return [batch_manifest(kind, figure, batch)] if batch and run_kind(config, figure) == kind else []
+
+
+def member_cache(config: dict[str, Any], kind: str, figure: str, scene: str) -> str:
+    """The batch's copy of this scene's dataset ('' if it runs alone)."""
+    batch = batch_of(config, figure, scene)
+    return batch_member(kind, figure, batch, scene) if batch and run_kind(config, figure) == kind else ""
+
+
+def batch_job(config: dict[str, Any], kind: str, figure: str, batch: str) -> dict[str, Any]:
+    """What rule batch runs: the members' parameters and where each dataset goes."""
+    members = batches(config, figure).get(batch)
+    if not members or run_kind(config, figure) != kind:
+        raise ConfigError(f"figures.{figure}: no {kind} batch named {batch!r}")
+    return {"members": [scene_params(config, figure, s) for s in members],
+            "outputs": [batch_member(kind, figure, batch, s) for s in members],
+            "folder": str(RESULTS / "batches" / kind / figure / batch)}
+
+
+def batch_outputs(config: dict[str, Any]) -> list[str]:
+    """Every batch manifest of the config."""
+    return [batch_manifest(run_kind(config, f), f, b) for f in figures(config) for b in batches(config, f)]
+
+
 def wanted_scene(config: dict[str, Any], figure: str, scene: str, shared: bool = True) -> dict[str, Any] | None:
     """What the file of a scene must store (evidence.check_file): every Scene parameter, defaults
     filled in, under the name of the run that makes the file (with ``shared``, a shared run's

@@ -1,5 +1,8 @@
 # Shared set-up: config validation (before any job), file layout, code dependencies.
+import json
 from pathlib import Path
+
+from snakemake_interface_executor_plugins.settings import DeploymentMethod
 
 from confined_rod import limits, paper, pipeline
 
@@ -81,6 +84,47 @@ def stale_path(wildcards):
     )
 
 
+# -- running scenes: batches of small scenes in one process, or a scene alone (confined_rod.runs)
+# The interpreter of a job: the conda env's with --use-conda, else Snakemake's own (the venv's).
+PYTHON = (
+    "python"
+    if DeploymentMethod.CONDA in workflow.deployment_settings.deployment_method
+    else sys.executable
+)
+RUN_SCENE = f"{PYTHON} {Path(workflow.basedir) / 'workflow' / 'scripts' / 'run_scene.py'}"
+# A scene's own job: its batch's copy moved into place (and stamped newer than the batch's
+# manifest), or, with no copy, the scene run here. Doubled braces are Snakemake's, filled per job.
+MEMBER_SHELL = (
+    "if [ -n {{params.cached:q}} ] && [ -e {{params.cached:q}} ]; then"
+    " mv -f {{params.cached:q}} {{output:q}} && touch {{output:q}}"
+    " && echo 'run in the batch {{input.batch}}; its log: {{params.batch_log}}' > {{log:q}};"
+    " else {{params.run}} {kind} {{output:q}} {{params.scene:q}} > {{log:q}} 2>&1; fi"
+)
+
+
+def batch_log(kind):
+    def log(wildcards):
+        batch = pipeline.batch_of(config, wildcards.figure, wildcards.scene)
+        return pipeline.batch_log(kind, wildcards.figure, batch) if batch else ""
+
+    return log
+
+
+def scene_json(wildcards):
+    return json.dumps(pipeline.scene_params(config, wildcards.figure, wildcards.scene))
+
+
+def batch_priority(wildcards):
+    """A batch is scheduled as the sum of its members' estimated solver times and one start-up."""
+    members = pipeline.batches(config, wildcards.figure).get(wildcards.batch, [])
+    return int(limits.JOB_STARTUP_S + sum(pipeline.solver_estimate(config, wildcards.figure, s) for s in members))
+
+
+def batch_runtime(wildcards):
+    """Minutes, for a cluster scheduler: three times the members' estimates, plus ten minutes."""
+    return int(10 + 3 * batch_priority(wildcards) / 60.0)
+
+
 def kind_module(wildcards):
     return pipeline.kinds.module_path(config["figures"][wildcards.figure]["kind"])
 
@@ -114,13 +158,9 @@ def simulate_runtime(wildcards):
 
 def job_priority(wildcards):
     """Longest jobs first, so that the last jobs of a build finish together: the
-    estimated wall time in seconds (limits.estimated_wall_time); 0 for a probe of
-    deliberately invalid input."""
-    try:
-        sc = pipeline.build_scene(config, wildcards.figure, wildcards.scene)
-    except Exception:
-        return 0
-    return int(limits.estimated_wall_time(sc))
+    estimated wall time in seconds (limits.estimated_solver_time and the start-up; the
+    start-up alone for a probe of deliberately invalid input)."""
+    return int(limits.JOB_STARTUP_S + pipeline.solver_estimate(config, wildcards.figure, wildcards.scene))
 
 
 def path_priority(wildcards):

@@ -1,14 +1,51 @@
+rule batch:
+    """Run the small scenes of a figure in one process (pipeline.batches: neighbours in the
+    config, a seed ensemble's members together, up to pipeline.BATCH_S estimated solver seconds),
+    each written to its own dataset in the batch's folder; each scene's own job (rule simulate or
+    probe) then moves it into place. The job's start-up (~2 s) is paid once per batch."""
+    input:
+        code=SIMULATION_CODE,
+    output:
+        "results/batches/{kind}/{figure}/{batch}.json",
+    params:
+        job=lambda wildcards: pipeline.batch_job(
+            config, wildcards.kind, wildcards.figure, wildcards.batch
+        ),
+    log:
+        "results/logs/batch/{kind}/{figure}/{batch}.log",
+    benchmark:
+        "results/benchmarks/batch/{kind}/{figure}/{batch}.tsv"
+    wildcard_constraints:
+        kind="simulate|probe",
+    threads: 1
+    priority: batch_priority
+    resources:
+        mem_mb=1000,
+        runtime=batch_runtime,
+    conda:
+        "../envs/confined_rod.yaml"
+    script:
+        "../scripts/batch.py"
+
+
 rule simulate:
-    """Relax one scene to equilibrium and store its dataset (one netCDF per scene)."""
+    """One scene's dataset: moved into place from its batch, or (a scene that runs alone, or one
+    whose batch copy is gone) relaxed to equilibrium in this job (confined_rod.runs)."""
     input:
         code=SIMULATION_CODE,
         stale=stale_sim,
+        batch=lambda wildcards: pipeline.member_batch(
+            config, "simulate", wildcards.figure, wildcards.scene
+        ),
     output:
         "results/sims/{figure}/{scene}.nc",
     params:
-        scene=lambda wildcards: pipeline.scene_params(
-            config, wildcards.figure, wildcards.scene
+        cached=lambda wildcards: pipeline.member_cache(
+            config, "simulate", wildcards.figure, wildcards.scene
         ),
+        batch_log=batch_log("simulate"),
+        scene=lambda wildcards: scene_json(wildcards),
+        run=RUN_SCENE,
     log:
         "results/logs/simulate/{figure}/{scene}.log",
     benchmark:
@@ -20,21 +57,28 @@ rule simulate:
         runtime=simulate_runtime,
     conda:
         "../envs/confined_rod.yaml"
-    script:
-        "../scripts/simulate.py"
+    shell:
+        MEMBER_SHELL.format(kind="simulate")
 
 
 rule probe:
-    """One point of a stability map: run it and record how it ended (equilibrium, time
-    cap, escape, divergence or invalid input, with the message); never fails the build."""
+    """One point of a stability map: how it ended (equilibrium, time cap, escape, divergence
+    or invalid input, with the message); never fails the build. Moved into place from its batch,
+    or run in this job (as rule simulate)."""
     input:
         code=SIMULATION_CODE,
+        batch=lambda wildcards: pipeline.member_batch(
+            config, "probe", wildcards.figure, wildcards.scene
+        ),
     output:
         "results/probes/{figure}/{scene}.nc",
     params:
-        scene=lambda wildcards: pipeline.scene_params(
-            config, wildcards.figure, wildcards.scene
+        cached=lambda wildcards: pipeline.member_cache(
+            config, "probe", wildcards.figure, wildcards.scene
         ),
+        batch_log=batch_log("probe"),
+        scene=lambda wildcards: scene_json(wildcards),
+        run=RUN_SCENE,
     log:
         "results/logs/probe/{figure}/{scene}.log",
     benchmark:
@@ -46,8 +90,8 @@ rule probe:
         runtime=30,
     conda:
         "../envs/confined_rod.yaml"
-    script:
-        "../scripts/probe.py"
+    shell:
+        MEMBER_SHELL.format(kind="probe")
 
 
 rule load_path:
