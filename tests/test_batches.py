@@ -98,3 +98,59 @@ def test_a_failed_member_stops_no_other_and_fails_the_batch(tmp_path):
     assert "l0" in record["members"][0]["log"]
     with pytest.raises(ValueError, match="kind = 'simulat'"):
         run_batch("simulat", members, outs, tmp_path / "x.json")
+
+
+TINY = """
+scene_defaults: {l0: 1.0, tol: 1.0e-4}
+figures:
+  ens:
+    kind: force_profile
+    title: a seed ensemble (one batch)
+    panel_parameter: k_fr
+    defaults: {L: 8, load: 0.25, k_fr: 0.8}
+    scenes:
+      a: {seeds: 2}
+  one:
+    kind: force_profile
+    title: a scene alone
+    panel_parameter: k_fr
+    defaults: {L: 8, load: 0.25}
+    scenes:
+      b: {k_fr: 0.5}
+"""
+
+
+def _snakemake(tmp_path, config, *targets, dry=False):
+    exe = Path(sys.executable).with_name("snakemake")
+    if not exe.exists():
+        pytest.skip("snakemake not installed (pip install -e .[workflow])")
+    out = subprocess.run([str(exe), *(["-n"] if dry else []), "--snakefile", str(ROOT / "Snakefile"), "--directory",
+                          str(tmp_path), *targets, "--configfile", str(config), "--cores", "1", "--quiet", "rules"],
+                         cwd=ROOT, capture_output=True, text=True, timeout=600, env={**os.environ})
+    msg = out.stdout + out.stderr
+    assert out.returncode == 0, msg[-3000:]
+    return msg, {line.split()[0]: int(line.split()[1]) for line in msg.splitlines()
+                 if len(line.split()) == 2 and line.split()[1].isdigit() and line.split()[0] != "total"}
+
+
+def test_snakemake_runs_a_batch_and_a_scene_alone_and_reruns_a_lost_member_alone(tmp_path):
+    config = tmp_path / "tiny.yaml"
+    config.write_text(TINY)
+    cfg = pipeline.expand(yaml.safe_load(TINY))
+    assert pipeline.batches(cfg, "ens") == {"a-s0-to-a-s1": ["a-s0", "a-s1"]} and pipeline.batches(cfg, "one") == {}
+    sims = [pipeline.sim_path("ens", "a-s0"), pipeline.sim_path("ens", "a-s1"), pipeline.sim_path("one", "b")]
+    _, planned = _snakemake(tmp_path, config, *sims)
+    assert planned == {"batch": 1, "simulate": 3}, planned
+    for p in sims:
+        with xr.open_dataset(tmp_path / p) as ds:
+            assert ds.attrs["status"] == "converged"
+    logs = tmp_path / "results" / "logs" / "simulate"
+    assert "run in the batch" in (logs / "ens" / "a-s1.log").read_text()
+    assert "one/b: converged" in (logs / "one" / "b.log").read_text()          # ran in its own job
+    assert not any((tmp_path / "results" / "batches" / "simulate" / "ens" / "a-s0-to-a-s1").iterdir())
+    _, planned = _snakemake(tmp_path, config, *sims, dry=True)
+    assert planned == {}, planned                                              # nothing left to do
+    (tmp_path / sims[1]).unlink()
+    _, planned = _snakemake(tmp_path, config, *sims)
+    assert planned == {"simulate": 1}, planned                                 # alone, its batch not again
+    assert "ens/a-s1: converged" in (logs / "ens" / "a-s1.log").read_text()

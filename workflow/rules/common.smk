@@ -93,10 +93,11 @@ PYTHON = (
 )
 RUN_SCENE = f"{PYTHON} {Path(workflow.basedir) / 'workflow' / 'scripts' / 'run_scene.py'}"
 # A scene's own job: its batch's copy moved into place (and stamped newer than the batch's
-# manifest), or, with no copy, the scene run here. Doubled braces are Snakemake's, filled per job.
+# manifest), or, with no copy, the scene run here. Doubled braces are Snakemake's, filled per job;
+# the copy's path is double-quoted by hand (Snakemake's :q renders an empty string as nothing).
 MEMBER_SHELL = (
-    "if [ -n {{params.cached:q}} ] && [ -e {{params.cached:q}} ]; then"
-    " mv -f {{params.cached:q}} {{output:q}} && touch {{output:q}}"
+    'if [ -n "{{params.cached}}" ] && [ -e "{{params.cached}}" ]; then'
+    ' mv -f "{{params.cached}}" {{output:q}} && touch {{output:q}}'
     " && echo 'run in the batch {{input.batch}}; its log: {{params.batch_log}}' > {{log:q}};"
     " else {{params.run}} {kind} {{output:q}} {{params.scene:q}} > {{log:q}} 2>&1; fi"
 )
