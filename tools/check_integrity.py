@@ -27,8 +27,8 @@ SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 from confined_rod import pipeline  # noqa: E402
 
 
-def dry_run(config: str) -> tuple[dict[str, int], str]:
-    out = subprocess.run([SNAKEMAKE, "-n", "--quiet", "rules", "--configfile", config, "--cores", "1"],
+def dry_run(config: str, *targets: str) -> tuple[dict[str, int], str]:
+    out = subprocess.run([SNAKEMAKE, "-n", *targets, "--quiet", "rules", "--configfile", config, "--cores", "1"],
                          cwd=ROOT, capture_output=True, text=True)
     if out.returncode != 0:
         raise SystemExit(f"snakemake dry run failed:\n{out.stdout}\n{out.stderr}")
@@ -90,7 +90,9 @@ def main(argv=None) -> int:
 
 
 def deleted_member(config: dict, config_path: str) -> int:
-    """A deleted member of a batch is run again alone (the batch's other members are kept)."""
+    """A deleted member of a batch, asked for, is run again alone (the batch's other members are
+    kept). (The default target asks for the datasets, the products: a simulation file deleted
+    under an up-to-date dataset is not rebuilt unless asked for, as before batches.)"""
     fig, members = next((f, m) for f in pipeline.figures(config) for m in pipeline.batches(config, f).values()
                         if pipeline.run_kind(config, f) == "simulate")
     member = ROOT / pipeline.sim_path(fig, members[-1])
@@ -98,7 +100,7 @@ def deleted_member(config: dict, config_path: str) -> int:
         keep = Path(tmp) / "member.nc"
         shutil.move(member, keep)
         try:
-            plan, text = dry_run(config_path)
+            plan, text = dry_run(config_path, str(member.relative_to(ROOT)))
         finally:
             shutil.move(keep, member)
     ok = plan.get("simulate", 0) == 1 and plan.get("batch", 0) == 0
