@@ -249,11 +249,14 @@ def estimated_solver_time(scene) -> float:
     """Rough time of a run's solver on one core of the reference machine (seconds), from
     measured runs (benchmarks/results/publication.json): implicit at the publication numerics,
     L/R = 640 at l0 = 0.5 R (1280 links), k_fr = 0.8: 6.3 s, growing as N^1.9 (frictionless runs
-    are faster); explicit, L/R = 80 at l0 = 0.5 R, k_ph = 1e3: 7 min, growing as L^2.5 and as
+    are faster), times 1 + ramp_steps/20 for a ramp; explicit, L/R = 80 at l0 = 0.5 R, k_ph = 1e3: 7 min, growing as L^2.5 and as
     the step shrinks (1/l0^3, 1/k_ph)."""
     n = scene.L / scene.l0
     if scene.solver == "implicit":
-        return 6.3 * (n / 1280.0) ** 1.9
+        # a ramp relaxes the rod once per load: measured 7-14x a full-load run for 128-256 loads
+        # (the publication build's protocols_L640 and conv_ramp_steps batches)
+        ramp = 1.0 + scene.ramp_steps / 20.0 if scene.protocol == "ramp" else 1.0
+        return 6.3 * (n / 1280.0) ** 1.9 * ramp
     k_rel = max(1.0, scene.k_ph * scene.R**2 / scene.EI / 1e3)
     return 420.0 * (scene.L / scene.R / 80.0) ** 2.5 * (0.5 * scene.R / scene.l0) ** 3 * k_rel \
         * (0.8 / scene.dt_factor)
