@@ -38,7 +38,6 @@ rule convergence_check:
         on_inconclusive=lambda wildcards: config["figures"][wildcards.figure].get(
             "on_inconclusive", "fail"
         ),
-        on_fail=lambda wildcards: config["figures"][wildcards.figure].get("on_fail", "fail"),
     log:
         "results/logs/convergence_check/{figure}.log",
     benchmark:

@@ -67,9 +67,6 @@ OPTIONS = {
                   "before the build fails"},
     "on_inconclusive": {"enum": ["fail", "warn"], "description": "what an inconclusive check (rungs in different "
                         "equilibrium states, non-monotone differences) does to the build: fail, or warn and go on"},
-    "on_fail": {"enum": ["fail", "warn"], "description": "what a decided failure does to the build: fail (default), "
-                "or warn and go on, the failure written to the check's file and reported (for a ladder whose "
-                "failure is a finding to report, not a gate; say why in the config)"},
     "paired": {"type": "boolean", "description": "compare the rungs seed by seed (paired_verdict): for ladders whose "
                "rungs start every seed from the same state (ramp_steps); default false"},
     "publication_value": {"type": "number", "description": "the value the figures use when it is not a scene default "
@@ -500,10 +497,9 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     return ds
 
 
-def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail", on_fail: str = "fail") -> str:
-    """Raise ConvergenceError if the check failed (unless the config says a failure only warns)
-    or was inconclusive and the config says that fails too; return a one-line summary otherwise
-    (a failure that only warns ends in ': fail (reported, the build goes on: on_fail = warn)')."""
+def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
+    """Raise ConvergenceError if the check failed (or was inconclusive and the
+    config says that fails too); return a one-line summary otherwise."""
     status = ds.attrs["status"]
     line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g} is "
             + ", ".join(f"{k} {100 * d:.3g} %" for k, d in zip(ds["observable"].values,
@@ -515,9 +511,9 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail", on_fail: s
             + (" + the 95 % bound)" if ds.attrs.get("paired") else f" + {Z_AGREE:g} combined s.e.)"
                if "has_member" in ds else ")")
             + f": {status}")
-    if (status == "fail" and on_fail == "fail") or (status.startswith("inconclusive") and on_inconclusive == "fail"):
+    if status == "fail" or (status.startswith("inconclusive") and on_inconclusive == "fail"):
         raise ConvergenceError(line)
-    return line + (" (reported, the build goes on: on_fail = warn)" if status == "fail" else "")
+    return line
 
 
 
