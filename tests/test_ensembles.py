@@ -178,6 +178,33 @@ def test_ensemble_ladder_dataset_from_constructed_rungs():
     np.testing.assert_allclose(ds["F_transmitted_sem"].values, F.std(axis=1, ddof=1) / np.sqrt(6), rtol=1e-12)
 
 
+def _l0_ladder(turns_of_l0, means=((1.0, 0.0684), (0.5, 0.0684), (0.25, 0.0725))):
+    sims = {}
+    rng = np.random.default_rng(2)
+    for l0, mean in means:
+        for seed in range(8):
+            # one coarse member jams with less than a turn (so the pitch, which these constructed
+            # shapes do not carry, is not compared; winding_shift reads the helical members only)
+            turns = 0.9 if (l0, seed) == (1.0, 0) else turns_of_l0(l0)
+            d = _sim(80.0, seed, mean * (1 + 0.005 * rng.standard_normal()), turns=turns)
+            d.attrs["l0"] = l0
+            sims[f"l0_{l0}-s{seed}"] = d
+    return convergence.build({"parameter": "l0", "tolerance": 0.02}, sims, {"publication_value": 0.5})
+
+
+def test_an_ensemble_ladder_whose_rungs_wind_differently_is_inconclusive_not_failed():
+    """conv_l0 of the publication build: the fine rung's mean |F_z(L)| 5.6 % above the publication
+    rung's, decided beyond 2 % + 2 s.e., but its helices wound 3.77 turns against 3.28: another
+    state (ensembles.STATE_TURNS), so the difference says nothing about l0."""
+    same = _l0_ladder(lambda l0: 3.3)
+    assert same.attrs["status"] == "fail"                                  # like with like: a decided fail
+    wound = _l0_ladder(lambda l0: 3.3 if l0 >= 0.5 else 3.8)
+    assert wound.attrs["status"].startswith("inconclusive: the rungs settle in different states")
+    assert "3.30 turns at 0.5, 3.80 at 0.25" in wound.attrs["status"]
+    # within STATE_TURNS the states are the same and the verdict is the statistics'
+    assert _l0_ladder(lambda l0: 3.3 if l0 >= 0.5 else 3.5).attrs["status"] == "fail"
+
+
 # -- the jamming map (figures/jamming_map.py) -------------------------------------------------------
 from confined_rod.figures import jamming_map  # noqa: E402
 

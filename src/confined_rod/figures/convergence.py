@@ -404,6 +404,27 @@ def paired_verdict(values: np.ndarray, v: np.ndarray, seeds: np.ndarray, turns: 
     return status, dist, "paired by seed: " + "; ".join(parts)
 
 
+def winding_shift(values: np.ndarray, turns: np.ndarray, has: np.ndarray, ipub: int) -> list[str]:
+    """Finer rungs whose helices settle in another state than the publication rung's: the mean
+    winding of their helical members (at least one turn) differs by ensembles.STATE_TURNS or more,
+    the project's measure of another final state. A difference of ensemble means across such
+    rungs compares different equilibria, not a discretisation error (conv_l0, publication build
+    of 2026-12-02: 3.28 turns at l0 = 0.5 against 3.77 at 0.125, so its 5.6 % difference in
+    |F_z(L)| decided nothing about l0)."""
+    hel = (has == 1) & (turns >= 1.0)
+
+    def mean(i):
+        return float(turns[i, hel[i]].mean()) if hel[i].any() else math.nan
+
+    out = []
+    for j in range(ipub + 1, len(values)):
+        a, b = mean(ipub), mean(j)
+        if math.isfinite(a) and math.isfinite(b) and abs(b - a) >= ensembles.STATE_TURNS:
+            out.append(f"mean winding of the helical members {a:.2f} turns at {values[ipub]:g}, {b:.2f} at "
+                       f"{values[j]:g}: apart by {ensembles.STATE_TURNS:g} turn or more")
+    return out
+
+
 def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     """The ladder with a seed ensemble per rung: members, means, standard errors and the
     statistical verdict (statistical_verdict)."""
@@ -449,7 +470,10 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
         notes.append(note)
     checked = list(obs)
     bad = [f"{k}: {n}" for k, s, n in zip(checked, statuses, notes) if s == "inconclusive"]
-    if bad:
+    moved = [] if paired else winding_shift(values, turns, has, ipub)
+    if moved:
+        status = "inconclusive: the rungs settle in different states (" + "; ".join(moved) + ")"
+    elif bad:
         status = "inconclusive: " + "; ".join(bad)
     elif "fail" in statuses:
         status = "fail"
