@@ -325,10 +325,6 @@ def batch_member(kind: str, figure: str, batch: str, scene: str) -> str:
     return str(RESULTS / "batches" / kind / figure / batch / f"{scene}.nc")
 
 
-def run_file(kind: str, figure: str, scene: str) -> str:
-    return sim_path(figure, scene) if kind == "simulate" else probe_path(figure, scene)
-
-
 def member_batch(config: dict[str, Any], kind: str, figure: str, scene: str) -> list[str]:
     """[the manifest of the batch that runs this scene], or [] if it runs alone."""
     batch = batch_of(config, figure, scene)
