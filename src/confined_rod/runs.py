@@ -21,9 +21,6 @@ from typing import Any, Mapping, Sequence
 
 from .io import finalize, write_dataset, write_text
 
-KINDS = ("simulate", "probe")
-
-
 def run_simulation(params: Mapping[str, Any], output: str | Path) -> str:
     """Relax one scene and write its dataset; returns the log line of the run."""
     from .scenes import Scene
@@ -50,6 +47,7 @@ def run_probe(params: Mapping[str, Any], output: str | Path) -> str:
 
 
 _RUN = {"simulate": run_simulation, "probe": run_probe}
+KINDS = tuple(_RUN)
 
 
 def _check_kind(kind: str) -> None:
