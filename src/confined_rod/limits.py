@@ -249,8 +249,8 @@ def estimated_solver_time(scene) -> float:
     """Rough time of a run's solver on one core of the reference machine (seconds), from
     measured runs (benchmarks/results/publication.json): implicit at the publication numerics,
     L/R = 640 at l0 = 0.5 R (1280 links), k_fr = 0.8: 6.3 s, growing as N^1.9 (frictionless runs
-    are faster), times 1 + ramp_steps/20 for a ramp; explicit, L/R = 80 at l0 = 0.5 R, k_ph = 1e3: 7 min, growing as L^2.5 and as
-    the step shrinks (1/l0^3, 1/k_ph)."""
+    are faster), times 1 + ramp_steps/20 for a ramp; explicit, L/R = 80 at l0 = 0.5 R,
+    k_ph = 1e3: 7 min, growing as L^2.5 and as the step shrinks (1/l0^3, 1/k_ph)."""
     n = scene.L / scene.l0
     if scene.solver == "implicit":
         # a ramp relaxes the rod once per load: measured 7-14x a full-load run for 128-256 loads

@@ -320,21 +320,31 @@ def batch_log(kind: str, figure: str, batch: str) -> str:
     return str(RESULTS / "logs" / "batch" / kind / figure / f"{batch}.log")
 
 
+def batch_folder(kind: str, figure: str, batch: str) -> str:
+    """Where a batch leaves its members' datasets, for their own jobs to move into place."""
+    return str(RESULTS / "batches" / kind / figure / batch)
+
+
 def batch_member(kind: str, figure: str, batch: str, scene: str) -> str:
-    """Where a batch leaves a member's dataset, for the member's own job to move into place."""
-    return str(RESULTS / "batches" / kind / figure / batch / f"{scene}.nc")
+    return str(Path(batch_folder(kind, figure, batch)) / f"{scene}.nc")
+
+
+def _kind_batch(config: dict[str, Any], kind: str, figure: str, scene: str) -> str | None:
+    """The batch of ``kind`` that runs this scene, or None if it runs alone."""
+    batch = batch_of(config, figure, scene)
+    return batch if batch and run_kind(config, figure) == kind else None
 
 
 def member_batch(config: dict[str, Any], kind: str, figure: str, scene: str) -> list[str]:
     """[the manifest of the batch that runs this scene], or [] if it runs alone."""
-    batch = batch_of(config, figure, scene)
-    return [batch_manifest(kind, figure, batch)] if batch and run_kind(config, figure) == kind else []
+    batch = _kind_batch(config, kind, figure, scene)
+    return [batch_manifest(kind, figure, batch)] if batch else []
 
 
 def member_cache(config: dict[str, Any], kind: str, figure: str, scene: str) -> str:
     """The batch's copy of this scene's dataset ('' if it runs alone)."""
-    batch = batch_of(config, figure, scene)
-    return batch_member(kind, figure, batch, scene) if batch and run_kind(config, figure) == kind else ""
+    batch = _kind_batch(config, kind, figure, scene)
+    return batch_member(kind, figure, batch, scene) if batch else ""
 
 
 def batch_job(config: dict[str, Any], kind: str, figure: str, batch: str) -> dict[str, Any]:
@@ -344,7 +354,7 @@ def batch_job(config: dict[str, Any], kind: str, figure: str, batch: str) -> dic
         raise ConfigError(f"figures.{figure}: no {kind} batch named {batch!r}")
     return {"members": [scene_params(config, figure, s) for s in members],
             "outputs": [batch_member(kind, figure, batch, s) for s in members],
-            "folder": str(RESULTS / "batches" / kind / figure / batch)}
+            "folder": batch_folder(kind, figure, batch)}
 
 
 def batch_outputs(config: dict[str, Any]) -> list[str]:
