@@ -174,19 +174,22 @@ def test_analytic_smooth_hessian_matches_finite_differences(rng, kw):
 
 
 def test_banded_cholesky_matches_lapack(rng):
-    """The solver's banded Cholesky against LAPACK (scipy.linalg.solveh_banded) on
-    a random positive definite matrix of the solver's band: equal to round-off
-    (cond ~ 10 here, so 1e-12 relative is ample); and an indefinite matrix is
-    reported, not solved."""
+    """The solver's block Cholesky against LAPACK (scipy.linalg.solveh_banded) on a random
+    positive definite block-tridiagonal matrix (the Newton Hessian's pattern: 5 x 5 blocks,
+    the band entries two blocks apart zero): equal to round-off (cond ~ 10 here, so 1e-12
+    relative is ample); and an indefinite matrix is reported, not solved."""
     from scipy.linalg import solveh_banded
 
     from confined_rod.solvers import implicit_kernels as IK
 
-    n = IK.NDOF * 30
+    links = 30
+    n = IK.NDOF * links
     ab = rng.normal(scale=0.3, size=(IK.BAND + 1, n))
     ab[0] = 5.0 + rng.random(n)
+    row, col = np.arange(IK.BAND + 1)[:, None] + np.arange(n)[None, :], np.arange(n)[None, :]
+    ab[row // IK.NDOF - col // IK.NDOF > 1] = 0.0  # two blocks apart: not in the pattern
     b = rng.normal(size=n)
-    work, x = np.zeros((n, IK.BAND + 1)), np.zeros(n)
+    work, x = IK.cholesky_work(links), np.zeros(n)
     assert IK.banded_cholesky_solve(ab, b, work, x)
     ref = solveh_banded(ab, b, lower=True)
     assert np.abs(x - ref).max() < 1e-12 * np.abs(ref).max()
