@@ -86,8 +86,9 @@ def mark_unsettled(fig, ds: xr.Dataset) -> None:
         [f"not at a stable equilibrium, left out: {listed(out)}"] if out else [])
     if parts:
         # below everything else (the saved figure's tight bounding box takes it in)
-        lowest = min([ax.get_tightbbox(fig.canvas.get_renderer()).transformed(fig.transFigure.inverted()).y0
-                      for ax in fig.axes] + [0.0])
+        renderer, to_fig = fig.canvas.get_renderer(), fig.transFigure.inverted()
+        lowest = min([ax.get_tightbbox(renderer).transformed(to_fig).y0 for ax in fig.axes]
+                     + [text.get_window_extent(renderer).transformed(to_fig).y0 for text in fig.texts] + [0.0])
         fig.text(0.01, lowest - 0.01, "\n".join(line for part in parts for line in textwrap.wrap(part, 110)),
                  color="red", fontsize=7, ha="left", va="top")
 

@@ -184,6 +184,9 @@ _Q = SCENE_PARAMETERS + [
     Quantity("error", r"\epsilon", "relative error of |F_z(L)| against the reference run", "1"),
     Quantity("run_l0", "l_0", "link length of the run", "R"),
     Quantity("run_knob", "", "accuracy knob of the run: tol (explicit) or dx_max in R (implicit)", "1"),
+    Quantity("run_k_ph", "k_{ph}", "stretching stiffness of the run", "EI R-2"),
+    Quantity("F_reference", "|F_z(L)|_{ref}", "|F_z(L)| of the reference run the error is measured against",
+             "EI R-2"),
     # printed numbers of the paper (reference data) and the comparison with ours
     Quantity("F_paper_fit", "f_{paper}", "the paper's printed fit A (l0' + s)^c of |F_z(s)|", "EI R-2"),
     Quantity("paper_fit_A", "A", "prefactor A of the paper's printed fit", "EI R-2 R-c"),
