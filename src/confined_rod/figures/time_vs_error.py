@@ -89,11 +89,12 @@ def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=No
     }
     ds = xr.Dataset(data, coords=coords)
     first = sims[refs[0]]
+    ref_knob = knob[first.attrs["solver"]]
     ds.attrs.update({"reference": ", ".join(refs),
                      "reference_k_ph": [float(k) for k in ref_of],
                      "reference_wall_time": [float(sims[r]["wall_time"]) for r in refs],
                      "reference_solver": first.attrs["solver"], "reference_l0": float(first.attrs["l0"]),
-                     "reference_knob": f"{knob[first.attrs['solver']]} = {float(first.attrs[knob[first.attrs['solver']]]):g}",
+                     "reference_knob": f"{ref_knob} = {float(first.attrs[ref_knob]):g}",
                      "error_definition": "|F_z(L) - F_ref| / F_ref, F_ref from the reference scene of the run's k_ph: "
                                          "the same rod with the finest numerics of the ladder (see reference_*)",
                      "timing": "wall time of each simulate job, one core per job"})
