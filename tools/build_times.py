@@ -4,7 +4,9 @@ Reads results/benchmarks/<rule>/.../*.tsv (one per job: wall seconds first) and
 writes a JSON summary: the wall time of the whole build (if given), the number
 of jobs and the summed job seconds per rule, the longest jobs, and what running a
 scene costs beyond its solver (``run_overhead``: the job seconds of the rules that run
-scenes, batch, simulate and probe, less the solver times their datasets store, per scene).
+scenes, batch, simulate and probe, less the solver times their datasets store, per scene), and
+the solver seconds of the simulations per rod length L (``solver_by_L``: runs, sum, median and
+longest solver time, and how many did not end at equilibrium).
 
 Usage: python tools/build_times.py [--results results] [--wall SECONDS] [--note TEXT]
                                    [-o benchmarks/results/publication_build.json]
@@ -49,6 +51,26 @@ def run_overhead(results: Path, jobs: list[dict]) -> dict:
             "per_scene_s": (job_s - solver) / scenes if scenes else None}
 
 
+def solver_by_length(results: Path) -> dict:
+    """Solver seconds of the simulations (results/sims) grouped by the rod length L."""
+    import statistics
+
+    import netCDF4
+
+    by: dict = {}
+    for nc in (results / "sims").rglob("*.nc"):
+        with netCDF4.Dataset(nc) as ds:
+            if "wall_time" not in ds.variables:
+                continue
+            L = float(ds.getncattr("L"))
+            row = by.setdefault(L, {"times": [], "not_converged": 0})
+            row["times"].append(float(ds["wall_time"][...]))
+            row["not_converged"] += int(not int(ds["converged"][...])) if "converged" in ds.variables else 0
+    return {f"{L:g}": {"runs": len(r["times"]), "solver_s": sum(r["times"]), "median_s": statistics.median(r["times"]),
+                       "longest_s": max(r["times"]), "not_converged": r["not_converged"]}
+            for L, r in sorted(by.items())}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--results", default="results")
@@ -69,7 +91,8 @@ def main() -> None:
            "wall_s": args.wall, "jobs": len(jobs), "job_s_total": sum(j["s"] for j in jobs),
            "rules": dict(sorted(rules.items(), key=lambda kv: -kv[1]["job_s"])),
            "longest_jobs": sorted(jobs, key=lambda j: -j["s"])[:15],
-           "run_overhead": run_overhead(Path(args.results), jobs)}
+           "run_overhead": run_overhead(Path(args.results), jobs),
+           "solver_by_L": solver_by_length(Path(args.results))}
     Path(args.output).parent.mkdir(parents=True, exist_ok=True)
     Path(args.output).write_text(json.dumps(out, indent=1))
     for name, r in out["rules"].items():
@@ -79,6 +102,9 @@ def main() -> None:
     if o["scenes"]:
         print(f"running {o['scenes']} scenes: {o['job_s']:.1f} job-s, {o['solver_s']:.1f} s in their solvers, "
               f"{o['per_scene_s']:.2f} s per scene beyond them")
+    for L, r in out["solver_by_L"].items():
+        print(f"L/R = {L:>6s}: {r['runs']:4d} runs, {r['solver_s']:8.1f} s in their solvers (median {r['median_s']:.2f} s, "
+              f"longest {r['longest_s']:.1f} s, {r['not_converged']} not at equilibrium)")
 
 
 if __name__ == "__main__":
