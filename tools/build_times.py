@@ -103,8 +103,8 @@ def main() -> None:
         print(f"running {o['scenes']} scenes: {o['job_s']:.1f} job-s, {o['solver_s']:.1f} s in their solvers, "
               f"{o['per_scene_s']:.2f} s per scene beyond them")
     for L, r in out["solver_by_L"].items():
-        print(f"L/R = {L:>6s}: {r['runs']:4d} runs, {r['solver_s']:8.1f} s in their solvers (median {r['median_s']:.2f} s, "
-              f"longest {r['longest_s']:.1f} s, {r['not_converged']} not at equilibrium)")
+        print(f"L/R = {L:>6s}: {r['runs']:4d} runs, {r['solver_s']:8.1f} s in their solvers (median "
+              f"{r['median_s']:.2f} s, longest {r['longest_s']:.1f} s, {r['not_converged']} not at equilibrium)")
 
 
 if __name__ == "__main__":
