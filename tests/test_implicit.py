@@ -323,3 +323,23 @@ def test_a_light_sliding_contact_whose_bound_cycles_settles():
         base.relax(stage, st, implicit.ImplicitStepper(stage), progress=False)
         assert st.converged, f"ramp stage at load {F:.3g}"
     assert st.steps - steps < 500
+
+
+def test_a_long_rod_runs_bitwise_the_same_with_any_number_of_blas_threads():
+    """The path of a rod must not depend on the machine's core count. numpy's dot calls the BLAS,
+    whose threaded reduction (OpenBLAS, above ~10 000 elements, i.e. rods of more than 2 000
+    links) sums in an order set by the number of threads; with it in the line search, 40 steps of
+    this L/R = 1100 rod already ended bitwise apart with OPENBLAS_NUM_THREADS = 1 and 2. Each run
+    in its own process (the BLAS reads its thread count at start-up)."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import hashlib; from confined_rod import Scene; from confined_rod.solvers.base import run_protocol;"
+            "from confined_rod.solvers.implicit import ImplicitStepper;"
+            "sc = Scene(L=1100.0, seed=0, load=0.25, k_fr=0.8, k_ph=1e4, max_steps=40, name='blas');"
+            "st = run_protocol(sc, ImplicitStepper, progress=False);"
+            "print(st.steps, hashlib.sha1(st.r.tobytes() + st.t.tobytes()).hexdigest())")
+    out = [subprocess.run([sys.executable, "-c", code], env=dict(os.environ, OPENBLAS_NUM_THREADS=str(n)),
+                          check=True, capture_output=True, text=True).stdout.split() for n in (1, 2)]
+    assert out[0][0] == "40" and out[0] == out[1]

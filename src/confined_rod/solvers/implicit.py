@@ -199,7 +199,7 @@ class ImplicitStepper:
             p = self._solve(ab, g, st)
             if self.active_set:
                 p = self._active_set_model(r, t, g, p, st)
-            self._line_search(r, t, p, phi, float(np.dot(g.ravel(), p.ravel())), st)
+            self._line_search(r, t, p, phi, IK.dot(g, p), st)
             r[:] = self.r2
             t[:] = self.t2
             fresh = not self.planar
@@ -232,7 +232,7 @@ class ImplicitStepper:
         keep[:] = self.p  # the kernels read p and change only gm and ab
         st.count("active_set_models")
         p = self._solve(self.ab, gm, st)
-        if not float(np.dot(g.ravel(), p.ravel())) < 0.0:
+        if not IK.dot(g, p) < 0.0:
             self.p[:] = keep
         return p
 
@@ -294,7 +294,7 @@ class ImplicitStepper:
             IK.displace(r, t, self.frame, self.e1, self.e2, p, alpha, self.r2, self.t2, self.nu)
             st.count("gradients")
             phi = self._phi(self.r2, self.t2, self.nu, self.gp)
-            slope = float(np.dot(self.gp.ravel(), p.ravel()))
+            slope = IK.dot(self.gp, p)
             if not (np.isfinite(phi) and np.isfinite(slope)):
                 hi, s_hi = alpha, np.inf
             elif phi <= phi0 + slack and (abs(slope) <= lim or (slope < 0.0 and hi is None)):
