@@ -235,6 +235,17 @@ def test_numerical_study_figures_are_validated():
     bad["figures"]["benchmark_time_vs_error"]["reference"] = "nope"
     with pytest.raises(pipeline.ConfigError, match=r"benchmark_time_vs_error\.reference: 'nope'"):
         pipeline.validate(bad)
+    # one reference per k_ph: a run whose k_ph has none, and two references of one k_ph, are refused
+    bad = copy.deepcopy(config)
+    bad["figures"]["benchmark_time_vs_error"]["reference"] = ["ref"]
+    with pytest.raises(pipeline.ConfigError, match=r"benchmark_time_vs_error\.scenes\.\w+_k4: k_ph = 10000 has no "
+                                                   r"reference scene"):
+        pipeline.validate(bad)
+    bad = copy.deepcopy(config)
+    bad["figures"]["benchmark_time_vs_error"]["reference"] = ["ref", "imp_l1_d02", "ref_k4"]
+    with pytest.raises(pipeline.ConfigError, match=r"benchmark_time_vs_error\.reference: .* two scenes of the "
+                                                   r"same k_ph"):
+        pipeline.validate(bad)
     assert pipeline.publication_value(config, "conv_l0") == 1.0
     assert pipeline.publication_value(config, "conv_k_ph") == Scene(L=10.0).k_ph  # Scene default
     # a setting of some figures only (the ramped ones) is the figure's own publication_value
