@@ -306,8 +306,9 @@ def test_a_light_sliding_contact_whose_bound_cycles_settles():
     round a cycle of five values at every step for a link sliding lightly along the wall (its
     normal force moving with its own sliding): protocols_L640/ramp32-s0 (publication numerics,
     L/R = 640, ramp of 32 loads, seed 0) stayed at eps_F = 3.8e-3 (10x its tolerance) for 70 000
-    steps of ramp stage 28 (load 0.083), 30 min. Bisecting within the bracket the bound has been
-    seen on both sides of settles that stage in ~40 steps (this test: the 28 stages, ~10 s)."""
+    steps of ramp stage 28 (load 0.083), 30 min. The passes' Anderson acceleration (or, before it,
+    bisection within the bracket the bound has been seen on both sides of) settles that stage in
+    tens of steps (this test: the 28 stages, ~10 s)."""
     import dataclasses
 
     from confined_rod.solvers import base, implicit
@@ -323,6 +324,29 @@ def test_a_light_sliding_contact_whose_bound_cycles_settles():
         base.relax(stage, st, implicit.ImplicitStepper(stage), progress=False)
         assert st.converged, f"ramp stage at load {F:.3g}"
     assert st.steps - steps < 500
+
+
+@pytest.mark.parametrize("eigenvalues", [(-0.5, 0.3, 0.9), (-1.0, -1.0, 0.5), (-3.0, 0.5, 2.0)])
+def test_anderson_passes_solve_a_linear_fixed_point_that_substitution_cannot(eigenvalues, rng):
+    """The normal-force passes solve f = G(f). For a linear G(x) = J x + b of n distinct
+    eigenvalues, Anderson mixing with depth >= n is GMRES on (I - J) x = b: exact after n + 1
+    passes up to round-off, where plain substitution cycles (eigenvalue -1: a two-cycle, the
+    cycles the passes met on the wall) or diverges (|eigenvalue| > 1)."""
+    from confined_rod.solvers.implicit import AndersonHistory
+
+    n = len(eigenvalues)
+    Q = np.linalg.qr(rng.normal(size=(n, n)))[0]
+    J = Q @ np.diag(eigenvalues) @ Q.T
+    b = rng.normal(size=n)
+    x_star = np.linalg.solve(np.eye(n) - J, b)
+    hist, x = AndersonHistory(n, depth=5), np.zeros(n)
+    for _ in range(n + 1):
+        x = hist.update(x, J @ x + b - x)
+    assert np.abs(x - x_star).max() < 1e-9 * max(1.0, np.abs(x_star).max())
+    y = np.zeros(n)  # plain substitution from the same start is nowhere near after as many passes
+    for _ in range(n + 1):
+        y = J @ y + b
+    assert np.abs(y - x_star).max() > 1e-3
 
 
 def test_a_long_rod_runs_bitwise_the_same_with_any_number_of_blas_threads():

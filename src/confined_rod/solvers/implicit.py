@@ -67,9 +67,48 @@ SHIFT_START = 1e-8  # indefinite Hessian: first diagonal shift, relative to each
 SHIFT_GROW = 100.0
 ACTIVE_SET_MODEL = True  # re-solve the Newton direction with the branches the step predicts (_active_set_model)
 NORMAL_PASSES = 8  # at most this many re-solves of a step with the friction bound from its end state
+ANDERSON_DEPTH = 5  # ... accelerated by Anderson mixing over this many previous passes
 SLOW_FACTOR = 0.5  # newton_slow (benchmark only): a step of more Newton iterations caps the next at this x its dt
 HESSIANS = ("analytic", "fd")  # smooth part of the Newton Hessian: exact (default), or finite differences (the
 # previous method, 15 gradient evaluations per iteration; kept for the benchmark's same-run comparison and the tests)
+
+
+class AndersonHistory:
+    """Anderson acceleration (type II, mixing 1) of a fixed-point iteration x = G(x), from the
+    gaps g = G(x) - x of the last ``depth`` iterates: the next iterate is x + g - (dX + dG) c,
+    c minimising |g - dG c| (least squares), where dX, dG hold the differences of successive
+    iterates and gaps (Walker and Ni, SIAM J. Numer. Anal. 49, 1715 (2011)). Without history it
+    is plain substitution x + g. Where G is linear with Jacobian J, depth k solves the fixed
+    point exactly once the differences span a Krylov space of I - J on which it closes (as
+    GMRES would); a nonsmooth G (a contact switching) is handled as well as its secants allow."""
+
+    def __init__(self, n: int, depth: int):
+        self.depth = depth
+        self.dX, self.dG = np.zeros((depth, n)), np.zeros((depth, n))  # one difference per row
+        self.k = 0  # differences stored
+        self.last: tuple[np.ndarray, np.ndarray] | None = None
+
+    def update(self, x: np.ndarray, g: np.ndarray) -> np.ndarray:
+        """The next iterate after x with gap g (new array). The sums run in a fixed order
+        (implicit_kernels.dot; the BLAS's threaded sums would make the path depend on the core
+        count) and the m x m least-squares problem is solved by its normal equations."""
+        if self.last is not None:
+            j = self.k % self.depth
+            np.subtract(x, self.last[0], out=self.dX[j])
+            np.subtract(g, self.last[1], out=self.dG[j])
+            self.k += 1
+        self.last = (x.copy(), g.copy())
+        m = min(self.k, self.depth)
+        out = x + g
+        if m == 0:
+            return out
+        dX, dG = self.dX[:m], self.dG[:m]
+        A = np.array([[IK.dot(dG[i], dG[j]) for j in range(m)] for i in range(m)])
+        b = np.array([IK.dot(dG[i], g) for i in range(m)])
+        c = np.linalg.lstsq(A, b, rcond=1e-12)[0]
+        for i in range(m):
+            out -= c[i] * (dX[i] + dG[i])
+        return out
 
 
 class StepFailed(Exception):
@@ -344,28 +383,34 @@ class ImplicitStepper:
         while it moves, the lag is part of the path's first-order error, which dx_max bounds,
         and re-solving every step tripled the cost of L/R = 640.
 
-        The passes solve bound(r(f_max)) = f_max link by link. Plain substitution (f_max <- the
-        new bound) can cycle: a link sliding lightly along the wall, whose normal force moves
-        with its own sliding, went round a cycle of five values at every step for 70 000 steps
-        (protocols_L640/ramp32-s0, ramp stage 28: 30 min at 10x the tolerance). So once a link's
-        bound has been seen on both sides of its f_max, its f_max is bisected within that bracket
-        (there a root lies, or the jump of a contact that switches); that stage now settles in
-        37 steps."""
+        The passes solve the fixed point f_max = G(f_max), G = bound(r(f_max)), on the links
+        on the wall, by Anderson acceleration (anderson_update; the first pass is plain
+        substitution). Plain substitution can cycle: a link sliding lightly along the wall,
+        whose normal force moves with its own sliding, went round a cycle of five values at
+        every step for 70 000 steps (protocols_L640/ramp32-s0, ramp stage 28: 30 min at 10x the
+        tolerance). Per-link bisection within brackets (the previous method) ended that cycle
+        but contracts by at most 2 per pass and ignores that neighbouring links share their
+        normal forces: the passes rarely closed within a step, the next step started them
+        anew at a frozen dt, and they were 18 % of the Newton iterations of an L/R = 640 rod
+        and 75 % of a late ramp stage (benchmarks/results/normal_passes.json compares the two
+        in one run)."""
         self.bound_lags = False
         if NEWTON_ETA * self.cr * np.abs(r - self.rn).max() > self.gtol_F:
             return
-        on = self.fmax > 0.0
-        lo, hi = np.full(self.n, -np.inf), np.full(self.n, np.inf)  # f_max whose bound came out above / below
+        on = np.flatnonzero(self.fmax > 0.0)
+        if on.size == 0:
+            return
+        hist = AndersonHistory(on.size, ANDERSON_DEPTH)
         for _ in range(NORMAL_PASSES):
-            f = np.where(on, self._bound(r, t), 0.0)
-            gap = f - self.fmax
+            x = self.fmax[on]
+            gap = self._bound(r, t)[on] - x
             if np.abs(gap).max() <= self.gtol_F:
                 return
-            above = gap > 0.0
-            lo = np.where(above, np.maximum(lo, self.fmax), lo)
-            hi = np.where(above, hi, np.minimum(hi, self.fmax))
-            bracketed = np.isfinite(lo) & np.isfinite(hi)
-            self.fmax[:] = np.where(bracketed, 0.5 * (lo + hi), f)
+            x = hist.update(x, gap)
+            np.maximum(x, 0.0, out=x)
+            if self.cap > 0.0:
+                np.minimum(x, self.cap, out=x)
+            self.fmax[on] = x
             st.count("normal_force_passes")
             self._newton(r, t, st)
         # still apart (a link whose normal force moves with its own friction: the passes contract
