@@ -367,3 +367,27 @@ def test_a_long_rod_runs_bitwise_the_same_with_any_number_of_blas_threads():
     out = [subprocess.run([sys.executable, "-c", code], env=dict(os.environ, OPENBLAS_NUM_THREADS=str(n)),
                           check=True, capture_output=True, text=True).stdout.split() for n in (1, 2)]
     assert out[0][0] == "40" and out[0] == out[1]
+
+
+def test_the_bound_passes_wait_until_the_step_has_nearly_stopped_moving():
+    """The end-state passes run only in a step that moved no link end by more than dx_max/10:
+    a step of a creeping helix at dt ~ 1e4 passes the drag test (its drag is tiny) while it still
+    slides by ~dx_max, and there the passes cannot close (the slip itself moves the bound). On a
+    rod on the wall at a large dt: a step that moved it outwards by dx_max/2 runs no pass, one that
+    moved it by dx_max/100 does (both change the normal forces by far more than the tolerance)."""
+    from confined_rod.solvers import base, implicit
+
+    sc = Scene(L=20.0, load=0.25, k_fr=0.8, seed=0, name="gate")
+    st = implicit.run(sc, progress=False)
+    assert st.converged
+    counts = []
+    for move in (0.5, 0.01):
+        stp = implicit.ImplicitStepper(sc)
+        stp._start_step(st, 1e12)  # drag ~ 0: only the displacement gate can stop the passes
+        assert stp.fmax.any()
+        r, t = st.r.copy(), st.t.copy()
+        r[:, :2] *= 1.0 + move * sc.dx_max / sc.R  # outwards: the wall's normal forces change
+        probe = base.RunState(r=st.r.copy(), t=st.t.copy())
+        stp._implicit_normal_forces(r, t, probe)
+        counts.append(probe.work.get("normal_force_passes", 0))
+    assert counts[0] == 0 and counts[1] > 0
