@@ -154,3 +154,27 @@ def test_snakemake_runs_a_batch_and_a_scene_alone_and_reruns_a_lost_member_alone
     _, planned = _snakemake(tmp_path, config, *sims)
     assert planned == {"simulate": 1}, planned                                 # alone, its batch not again
     assert "ens/a-s1: converged" in (logs / "ens" / "a-s1.log").read_text()
+
+
+def test_a_script_job_runs_the_code_of_its_own_checkout(tmp_path):
+    """A ``script:`` job's preamble appends the workflow's search paths, the checkout's src/ among
+    them, after the site-packages, whose editable install may point at another checkout: the
+    batch jobs of a git worktree ran the main checkout's code (their datasets' git_commit said
+    so). workflow/scripts/_checkout.py must put its own src/ first even when it is already on the
+    path. A constructed checkout whose package is a stub, its src/ appended as the preamble does."""
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    scripts = tmp_path / "workflow" / "scripts"
+    scripts.mkdir(parents=True)
+    shutil.copy(root / "workflow" / "scripts" / "_checkout.py", scripts)
+    pkg = tmp_path / "src" / "confined_rod"
+    pkg.mkdir(parents=True)
+    (pkg / "__init__.py").write_text("STUB = True\n")
+    code = (f"import sys; sys.path.append({str(tmp_path / 'src')!r}); sys.path.insert(0, {str(scripts)!r}); "
+            "import _checkout, confined_rod; print(confined_rod.__file__)")
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout.strip()
+    assert Path(out).resolve() == (pkg / "__init__.py").resolve()
