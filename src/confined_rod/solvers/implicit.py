@@ -392,7 +392,7 @@ class ImplicitStepper:
         final state).
 
         The passes solve the fixed point f_max = G(f_max), G = bound(r(f_max)), on the links
-        on the wall, by Anderson acceleration (anderson_update; the first pass is plain
+        on the wall, by Anderson acceleration (AndersonHistory; the first pass is plain
         substitution). Plain substitution can cycle: a link sliding lightly along the wall,
         whose normal force moves with its own sliding, went round a cycle of five values at
         every step for 70 000 steps (protocols_L640/ramp32-s0, ramp stage 28: 30 min at 10x the
