@@ -224,6 +224,29 @@ def test_the_figure_says_which_runs_are_not_at_equilibrium():
     assert any("not at a stable equilibrium, drawn" in t and "f6/L80 (step_cap)" in t for t in texts)
 
 
+def test_the_unsettled_runs_are_listed_below_a_figure_legend_not_over_it():
+    """The jamming map's legend hangs below its axes (fig.legend at y < 0); the red list of
+    unsettled runs went on top of it (2026-12-03 map) because only axes and texts were measured."""
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    from confined_rod import plotting
+
+    fig, ax = plt.subplots(figsize=(4, 3))
+    for i in range(6):
+        ax.plot([0, 1], [0, i], label=f"line {i}")
+    handles, labels = ax.get_legend_handles_labels()
+    legend = fig.legend(handles, labels, loc="upper left", bbox_to_anchor=(0.1, 0.0), ncol=2)
+    ds = xr.Dataset(attrs={"left_out": "m/L640-s2 (converged on a saddle); m/L640-s7 (converged on a saddle)"})
+    plotting.mark_unsettled(fig, ds)
+    renderer, to_fig = fig.canvas.get_renderer(), fig.transFigure.inverted()
+    red = [t for t in fig.texts if "left out" in t.get_text()]
+    legend_bottom = legend.get_window_extent(renderer).transformed(to_fig).y0
+    red_top = red[0].get_window_extent(renderer).transformed(to_fig).y1
+    plt.close(fig)
+    assert len(red) == 1 and red_top <= legend_bottom
+
+
 def _ensemble_cases():
     """(figure config, members) of every kind built from seed ensembles of simulations, from the
     constructed members of tests/test_ensembles.py."""

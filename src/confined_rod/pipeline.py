@@ -22,6 +22,7 @@ physics validation) and checks the figure-kind rules, all before any job runs.
 """
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 from typing import Any
 
@@ -68,13 +69,17 @@ def _text(params: dict[str, Any]) -> str:
 def build_scene(config: dict[str, Any], figure: str, scene: str) -> Scene:
     """The validated Scene of one scene of the config, memoised by its parameters (a Scene is
     immutable; a DAG build asks for each one several times: priority, run time, the file check)."""
-    params = scene_params(config, figure, scene)
+    try:
+        return _scene_of(scene_params(config, figure, scene))
+    except (SceneError, TypeError) as e:
+        raise ConfigError(f"figures.{figure}.scenes.{scene}: {e}") from None
+
+
+def _scene_of(params: dict[str, Any]) -> Scene:
+    """Scene.from_dict(params), memoised by the parameters' text (raises as it does)."""
     key = _text(params)
     if key not in _SCENES:
-        try:
-            _SCENES[key] = Scene.from_dict(params)
-        except (SceneError, TypeError) as e:
-            raise ConfigError(f"figures.{figure}.scenes.{scene}: {e}") from None
+        _SCENES[key] = Scene.from_dict(dict(params))
     return _SCENES[key]
 
 
@@ -88,6 +93,12 @@ PACKAGE = Path(__file__).resolve().parent
 
 def _imported(path: Path) -> set[Path]:
     """The package's modules that ``path`` imports (at module level or inside a function)."""
+    return set(_imported_at(path, path.stat().st_mtime_ns))
+
+
+@functools.cache
+def _imported_at(path: Path, mtime_ns: int) -> frozenset[Path]:
+    """_imported of one version of a file (a workflow asks for several overlapping closures)."""
     import ast
 
     tree = ast.parse(path.read_text(), filename=str(path))
@@ -119,7 +130,7 @@ def _imported(path: Path) -> set[Path]:
             for alias in node.names:
                 if alias.name.split(".")[0] == PACKAGE.name:
                     add(PACKAGE.parent, alias.name)
-    return found
+    return frozenset(found)
 
 
 def code_closure(*modules: str | Path, skip: tuple[str | Path, ...] = ()) -> list[str]:
@@ -200,7 +211,7 @@ def _resolved(params: dict[str, Any]) -> tuple[dict[str, Any], str]:
     raw_key = _text(raw)
     if raw_key not in _KEYS:
         try:
-            d = Scene.from_dict(dict(params)).to_dict()
+            d = _scene_of(params).to_dict()
         except (SceneError, TypeError):
             d = dict(params)
         d.pop("name", None)

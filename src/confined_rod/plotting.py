@@ -88,7 +88,8 @@ def mark_unsettled(fig, ds: xr.Dataset) -> None:
         # below everything else (the saved figure's tight bounding box takes it in)
         renderer, to_fig = fig.canvas.get_renderer(), fig.transFigure.inverted()
         lowest = min([ax.get_tightbbox(renderer).transformed(to_fig).y0 for ax in fig.axes]
-                     + [text.get_window_extent(renderer).transformed(to_fig).y0 for text in fig.texts] + [0.0])
+                     + [text.get_window_extent(renderer).transformed(to_fig).y0 for text in fig.texts]
+                     + [leg.get_window_extent(renderer).transformed(to_fig).y0 for leg in fig.legends] + [0.0])
         fig.text(0.01, lowest - 0.01, "\n".join(line for part in parts for line in textwrap.wrap(part, 110)),
                  color="red", fontsize=7, ha="left", va="top")
 

@@ -24,6 +24,7 @@ objects built by :mod:`confined_rod.pipeline`.
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import pkgutil
 from pathlib import Path
@@ -36,11 +37,17 @@ HERE = Path(__file__).resolve().parent
 
 def kinds() -> list[str]:
     """Every figure kind: the modules of this package whose names do not start with '_'."""
-    return sorted(m.name for m in pkgutil.iter_modules([str(HERE)]) if not m.name.startswith("_"))
+    return list(_kinds())
+
+
+@functools.cache
+def _kinds() -> tuple[str, ...]:
+    """The kinds, listed once per process (a DAG build asks for a kind thousands of times)."""
+    return tuple(sorted(m.name for m in pkgutil.iter_modules([str(HERE)]) if not m.name.startswith("_")))
 
 
 def get(kind: str) -> ModuleType:
-    if kind not in kinds():
+    if kind not in _kinds():
         raise ConfigError(f"figure kind {kind!r} is not one of {', '.join(kinds())}")
     return importlib.import_module(f"{__name__}.{kind}")
 

@@ -275,12 +275,11 @@ def smooth_hessian(r, t, tn, frame, e1, e2, cr, ct, par, ab):
                 ab[NDOF + a - b, q + b] -= k * (B[0, a] * A[0, b] + B[1, a] * A[1, b] + B[2, a] * A[2, b])
         curv[i] += h * k * (gx * t[i, 0] + gy * t[i, 1] + gz * t[i, 2])
         curv[i + 1] += h * k * (gx * t[i + 1, 0] + gy * t[i + 1, 1] + gz * t[i + 1, 2])
-        # bending joint
-        for a in range(2):
-            ea = e1[i + 1] if a == 0 else e2[i + 1]
-            for b in range(2):
-                eb = e1[i] if b == 0 else e2[i]
-                ab[NDOF + 3 + a - (3 + b), q + 3 + b] -= C * (ea[0] * eb[0] + ea[1] * eb[1] + ea[2] * eb[2])
+        # bending joint: -C e_a(i+1) . e_b(i), a, b over (e1, e2)
+        ab[NDOF, q + 3] -= C * (e1[i + 1, 0] * e1[i, 0] + e1[i + 1, 1] * e1[i, 1] + e1[i + 1, 2] * e1[i, 2])
+        ab[NDOF - 1, q + 4] -= C * (e1[i + 1, 0] * e2[i, 0] + e1[i + 1, 1] * e2[i, 1] + e1[i + 1, 2] * e2[i, 2])
+        ab[NDOF + 1, q + 3] -= C * (e2[i + 1, 0] * e1[i, 0] + e2[i + 1, 1] * e1[i, 1] + e2[i + 1, 2] * e1[i, 2])
+        ab[NDOF, q + 4] -= C * (e2[i + 1, 0] * e2[i, 0] + e2[i + 1, 1] * e2[i, 1] + e2[i + 1, 2] * e2[i, 2])
         tt = t[i, 0] * t[i + 1, 0] + t[i, 1] * t[i + 1, 1] + t[i, 2] * t[i + 1, 2]
         curv[i] += C * tt
         curv[i + 1] += C * tt
@@ -333,6 +332,23 @@ def _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J):
 
 
 @njit(cache=True)
+def _add_wall_hessian(i, s, h, q, frame, e1, e2, h00, h01, h11, g0, g1, t, ab, J):
+    """_add_end_hessian for a point Hessian and gradient in the xy plane only (the wall's:
+    [[h00, h01, 0], [h01, h11, 0], [0, 0, 0]] and (g0, g1, 0)): the same sums without their
+    zero terms, so the same result (the wall is on most links of a helix, and this kernel
+    is a tenth of a Newton iteration's work)."""
+    _end_jacobian(i, s, h, frame, e1, e2, J)
+    for b in range(NDOF):
+        u0 = h00 * J[0, b] + h01 * J[1, b]
+        u1 = h01 * J[0, b] + h11 * J[1, b]
+        for a in range(b + 1):
+            ab[b - a, q + a] += J[0, a] * u0 + J[1, a] * u1
+    curv = -s * h * (g0 * t[i, 0] + g1 * t[i, 1])
+    ab[0, q + 3] += curv
+    ab[0, q + 4] += curv
+
+
+@njit(cache=True)
 def contact_hessian(r, t, frame, e1, e2, par, ab):
     """Exact Hessian of the one-sided contact penalties (wall (k_w/2)(rho - R)^2,
     floor (k_w/2) z^2, the block's top face (k_w/2)(z_top - z)^2) in the step
@@ -361,15 +377,9 @@ def contact_hessian(r, t, frame, e1, e2, par, ab):
             if d > 0.0:
                 rho = np.sqrt(px * px + py * py)
                 c = d / rho
-                hp[0, 0] = kw * (nx * nx + c * (1.0 - nx * nx))
-                hp[1, 1] = kw * (ny * ny + c * (1.0 - ny * ny))
-                hp[0, 1] = kw * (1.0 - c) * nx * ny
-                hp[1, 0] = hp[0, 1]
-                hp[0, 2] = hp[1, 2] = hp[2, 0] = hp[2, 1] = hp[2, 2] = 0.0
-                gp[0] = kw * d * nx
-                gp[1] = kw * d * ny
-                gp[2] = 0.0
-                _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
+                _add_wall_hessian(i, s, h, q, frame, e1, e2, kw * (nx * nx + c * (1.0 - nx * nx)),
+                                  kw * (1.0 - c) * nx * ny, kw * (ny * ny + c * (1.0 - ny * ny)),
+                                  kw * d * nx, kw * d * ny, t, ab, J)
             if par[K.FLOOR] > 0.5 and pz < 0.0 and not (i == 0 and s < 0.0 and par[K.LOWER_HELD] > 0.5):
                 hp[:, :] = 0.0
                 hp[2, 2] = kw
@@ -404,7 +414,10 @@ def banded_cholesky_solve(ab, b, work, x):
     LAPACK's dpbtrf/dpbtrs that it replaced (160 against 225 multiply-adds per link, no
     division in the inner loops; measured side by side on a random matrix of 12 800 unknowns,
     2026-12-02), and 2.9x faster than scipy.linalg.solveh_banded at 1280 links, whose call
-    overhead was 40 % of a Newton iteration (benchmarks/results/solvers.json)."""
+    overhead was 40 % of a Newton iteration (benchmarks/results/solvers.json). The forward
+    substitution runs in the factorisation's sweep (the same operations in the same order, so
+    the same result; with _add_wall_hessian and the bending entries written out in
+    smooth_hessian, L/R = 640 ran in 0.93x the time, benchmarks/results/ab_kernels.json)."""
     nb = ab.shape[1] // NDOF
     A = np.empty((NDOF, NDOF))
     for I in range(nb):
@@ -432,16 +445,7 @@ def banded_cholesky_solve(ab, b, work, x):
                 for k in range(c):
                     s -= work[I, a, k] * work[I, c, k]
                 work[I, a, c] = s * inv
-        if I + 1 < nb:  # C_I = H_I+1,I D_I^-T
-            for a in range(NDOF):
-                for c in range(NDOF):
-                    s = ab[NDOF + a - c, q + c]  # H[q + NDOF + a, q + c], within the band
-                    for k in range(c):
-                        s -= work[I, NDOF + a, k] * work[I, c, k]
-                    work[I, NDOF + a, c] = s * work[I, c, c]
-    for I in range(nb):  # L y = b
-        q = NDOF * I
-        for a in range(NDOF):
+        for a in range(NDOF):  # L y = b, this block's rows (in the same sweep, while L_I is in cache)
             s = b[q + a]
             if I > 0:
                 for k in range(NDOF):
@@ -449,6 +453,13 @@ def banded_cholesky_solve(ab, b, work, x):
             for k in range(a):
                 s -= work[I, a, k] * x[q + k]
             x[q + a] = s * work[I, a, a]
+        if I + 1 < nb:  # C_I = H_I+1,I D_I^-T
+            for a in range(NDOF):
+                for c in range(NDOF):
+                    s = ab[NDOF + a - c, q + c]  # H[q + NDOF + a, q + c], within the band
+                    for k in range(c):
+                        s -= work[I, NDOF + a, k] * work[I, c, k]
+                    work[I, NDOF + a, c] = s * work[I, c, c]
     for I in range(nb - 1, -1, -1):  # L^T x = y
         q = NDOF * I
         for a in range(NDOF - 1, -1, -1):
