@@ -169,10 +169,13 @@ def figure_paths(figure: str) -> tuple[str, str]:
 def canonical_scene(config: dict[str, Any], figure: str, scene: str) -> tuple[str, str]:
     """The first declared (figure, scene) with exactly the same parameters, so that a rod
     shared by several figures (e.g. Fig 4(c) and a point of Fig 6) is simulated once."""
-    return _canonical_index(config)[_key(scene_params(config, figure, scene))]
+    index, found = _canonical_index(config)
+    if (figure, scene) not in found:  # a DAG build asks for each scene several times
+        found[figure, scene] = index[_key(scene_params(config, figure, scene))]
+    return found[figure, scene]
 
 
-_INDEX: dict[int, tuple[dict[str, Any], tuple, dict[str, tuple[str, str]]]] = {}
+_INDEX: dict[int, tuple[dict[str, Any], tuple, dict[str, tuple[str, str]], dict]] = {}
 _KEYS: dict[str, tuple[dict[str, Any], str]] = {}
 
 
@@ -187,10 +190,11 @@ def _config_stamp(config: dict[str, Any]) -> tuple:
                   for f in figs))
 
 
-def _canonical_index(config: dict[str, Any]) -> dict[str, tuple[str, str]]:
-    """Scene key -> the first (figure, scene) declaring it; rebuilt when the config's scenes change
-    (a DAG build asks for every scene's canonical run, so this is built once, not once per scene).
-    The cache holds the config itself, so that its id is not reused while the entry lives."""
+def _canonical_index(config: dict[str, Any]) -> tuple[dict[str, tuple[str, str]], dict]:
+    """(scene key -> the first (figure, scene) declaring it, and the answers given so far, by
+    (figure, scene)); rebuilt when the config's scenes change (a DAG build asks for every scene's
+    canonical run, so this is built once, not once per scene). The cache holds the config
+    itself, so that its id is not reused while the entry lives."""
     stamp = _config_stamp(config)
     cached = _INDEX.get(id(config))
     if cached is None or cached[0] is not config or cached[1] != stamp:
@@ -198,8 +202,8 @@ def _canonical_index(config: dict[str, Any]) -> dict[str, tuple[str, str]]:
         for f in figures(config):
             for s in scenes(config, f):
                 index.setdefault(_key(scene_params(config, f, s)), (f, s))
-        _INDEX[id(config)] = cached = (config, stamp, index)
-    return cached[2]
+        _INDEX[id(config)] = cached = (config, stamp, index, {})
+    return cached[2], cached[3]
 
 
 def _resolved(params: dict[str, Any]) -> tuple[dict[str, Any], str]:
