@@ -85,3 +85,51 @@ def sliding_friction(F_joint, k_fr: float) -> dict:
     fz = F[:-1] - F[1:]
     return {"friction_z": ("link", fz), "friction_force": ("link", np.abs(fz)),
             "wall_force": ("link", np.abs(fz) / k_fr)}
+
+
+#: the rod of profile_rod (units R = EI = 1)
+PROFILE = {"L": 100.0, "l0": 0.5, "R": 1.0, "EI": 1.0, "k_fr": 0.8, "load": 0.25}
+
+
+def profile_rod(tip_end=6.0, bulk_end=70.0, q_lower=0.1, tip_contacts=(1, 7), detached_bottom=None, seed=0):
+    """A rod with a tip (0 <= s < tip_end: isolated contacts, friction axial at the limit there),
+    a bulk (tip_end <= s <= bulk_end: every link on the wall, sliding axially at the Coulomb
+    limit, 1/|F| linear in s with the corrected slope) and a lower region (on the wall, axial
+    friction q_lower of the limit, so |F| falls slowly). Friction and F_z are consistent:
+    |F_z| falls along s by the axial friction of each link. Returns (dataset, the built bulk
+    rate d(1/|F_z|)/ds = k_fr R/(4EI)); parameters in PROFILE."""
+    L, L0, R, EI, K_FR, LOAD = (PROFILE[k] for k in ("L", "l0", "R", "EI", "k_fr", "load"))
+    N = int(round(L / L0))
+    s = np.arange(N + 1) * L0
+    s_link = (np.arange(N) + 0.5) * L0
+    contact = np.zeros(N, dtype=np.int8)
+    contact[list(tip_contacts)] = 1
+    contact[(s_link >= tip_end) & (s_link <= L)] = 1
+    if detached_bottom is not None:
+        contact[s_link > L - detached_bottom] = 0
+    rate = K_FR * R / (4 * EI)
+    F_tip = 0.2                                       # after the tip drop
+    F = np.empty(N + 1)
+    F[0] = LOAD
+    fz = np.zeros(N)
+    # the tip: the contacts carry the drop from LOAD to F_tip
+    tips = [i for i in tip_contacts]
+    for i in range(N):
+        if s_link[i] < tip_end:
+            fz[i] = (LOAD - F_tip) / len(tips) if i in tips else 0.0
+        elif s_link[i] <= bulk_end:
+            F_here = F[i]
+            fz[i] = F_here - 1.0 / (1.0 / F_here + rate * L0)
+        else:
+            fz[i] = q_lower * 1e-3
+        F[i + 1] = F[i] - fz[i]
+    # wall force: in the tip and bulk the friction is at its limit (fz = k_fr N);
+    # in the lower region N is that of the bulk's end and fz a share q_lower of k_fr N
+    N_w = np.where(contact == 1, np.where(s_link <= bulk_end, fz / K_FR, 1e-3 / K_FR), 0.0)
+    ds = xr.Dataset(
+        {"F_z": (("joint",), -F), "contact": (("link",), contact), "wall_force": (("link",), N_w),
+         "friction_z": (("link",), fz * (contact == 1)), "friction_force": (("link",), fz * (contact == 1))},
+        coords={"s": (("joint",), s), "s_link": (("link",), s_link)},
+        attrs={"L": L, "l0": L0, "R": R, "EI": EI, "k_fr": K_FR, "friction_cap": 0.0, "load": LOAD,
+               "seed": seed, "status": "converged"})
+    return ds, rate

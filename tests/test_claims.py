@@ -13,6 +13,8 @@ import xarray as xr
 from confined_rod import claims, derivations, paper, pipeline
 from confined_rod.errors import ConfigError
 
+from . import shapes
+
 ROOT = Path(__file__).resolve().parents[1]
 CLAIMS = ROOT / "paper" / "claims.yaml"
 
@@ -242,6 +244,29 @@ def test_exponent_verdict_needs_both_windows(c_whole, c_bulk, kw, verdict):
     assert v.verdict == verdict, v.note
 
 
+def test_an_exponent_verdict_near_the_degenerate_fall_is_inconclusive():
+    """Bulk falls 1.96x (not determined at 2x) and disagrees, whole disagrees: at the 2x threshold
+    the verdict is inconclusive, at 2/sqrt 2 it would be refuted. It stays inconclusive and says
+    so; its value is the deviation of the determined window only."""
+    ev = claims.Evidence({"f": _profile_fig(-0.55, -0.70, fall_whole=2.6, fall_bulk=1.96, paper_c=-0.882)})
+    c = {"id": "e", "where": "Fig. 4", "claim": "c", "paper": -0.882,
+         "test": {"method": "measure", "name": "exponents", "figures": ["f"], "tol": 0.12}}
+    v = claims.evaluate_one(c, ev)
+    assert v.verdict == "inconclusive" and "fails at 1.41x, undecided at 2x, undecided at 2.83x" in v.note
+    assert v.ours_value == pytest.approx(0.332)                # whole window: |-0.55 + 0.882|
+    # far from the threshold on both windows: decided
+    ev = claims.Evidence({"f": _profile_fig(-0.55, -0.70, fall_whole=6.0, fall_bulk=5.0, paper_c=-0.882)})
+    assert claims.evaluate_one(c, ev).verdict == "refuted"
+
+
+def test_no_window_determines_the_exponent_so_there_is_no_value():
+    ev = claims.Evidence({"f": _profile_fig(-0.50, -0.60, fall_whole=1.3, fall_bulk=1.2, paper_c=-0.942)})
+    v = claims.evaluate_one({"id": "e", "where": "Fig. 7", "claim": "c", "paper": -0.942,
+                             "test": {"method": "measure", "name": "exponents", "figures": ["f"], "tol": 0.05}}, ev)
+    assert v.verdict == "inconclusive" and v.ours == claims.NOT_DETERMINED and v.ours_value is None
+    assert "whole: -0.500, not determined (|F_z| falls only 1.3x over the whole stretch)" in v.note
+
+
 def _law_fig(ratios, errs, has=None):
     n = len(ratios)
     model = 0.2
@@ -292,25 +317,38 @@ def test_straight_branch_compliance_is_the_bond_compliance_of_the_tilted_rod():
     assert ratio == pytest.approx(1.0, rel=1e-9) and ok
 
 
-def _contact_sim(first_run, last_run_end, seed, k_fr=0.8, n=200, l0=0.5):
-    contact = np.zeros(n, dtype=np.int8)
-    contact[[1, 5]] = 1                                     # tip contacts: not helix
-    contact[first_run:last_run_end] = 1
-    return xr.Dataset({"contact": ("link", contact)}, coords={"s_link": ("link", (np.arange(n) + 0.5) * l0)},
-                      attrs={"L": n * l0, "l0": l0, "k_fr": k_fr, "seed": seed})
+def _rods(prefix, n, **kw):
+    """n seeds of a constructed profile rod (tests/shapes.py), each end's lengths shifted by
+    up to 1 R between seeds (a seed range, not one value)."""
+    out = {}
+    for i in range(n):
+        k = dict(kw)
+        k["tip_end"] += 0.5 * i
+        k["bulk_end"] -= 0.5 * i
+        out[f"{prefix}-s{i}"] = shapes.profile_rod(seed=i, **k)[0]
+    return out
 
 
-def test_boundary_wider_reads_both_ends_over_the_seeds():
-    # small load: detached 20 R at the loaded end and 10 R at the support; large load: 5 R and 15 R
-    small = {f"f7/s-s{i}": _contact_sim(40, 180, i) for i in range(2)}
-    large = {f"f4/c-s{i}": _contact_sim(10, 170, i) for i in range(2)}
+def test_boundary_wider_reads_both_ends_in_both_readings_over_the_seeds():
+    """s = 0 is the loaded end. The small load's rod: tip 20 R, lower region 15 R, detached
+    10 R at the support; the large load's: tip 5 R, lower region 25 R, detached 15 R. The
+    loaded end's boundary region is wider, the support's narrower: refuted as stated."""
+    small = _rods("f7/s", 2, tip_end=20.0, bulk_end=85.0, detached_bottom=10.0, tip_contacts=(3, 30))
+    large = _rods("f4/c", 2, tip_end=5.0, bulk_end=75.0, detached_bottom=15.0, tip_contacts=(1, 7))
     ev = claims.Evidence({}, {**small, **large})
     value, holds, _, note = claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")
-    assert value == pytest.approx(20.0 / 5.0) and holds is None       # wider at the loaded end only
-    assert "support 10 R against 15 R" in note
-    large = {f"f4/c-s{i}": _contact_sim(10, 190, i) for i in range(2)}
+    assert value == pytest.approx(20.25 / 5.25, rel=0.05)     # detached at the loaded end, means of the seeds
+    assert holds is False and note.startswith("refuted as stated, holds at the loaded end only")
+    assert "at the support narrower: detached 10 R" in note
+    # the large load's support region shorter in both readings too: both ends wider
+    large = _rods("f4/c", 2, tip_end=5.0, bulk_end=92.0, detached_bottom=5.0, tip_contacts=(1, 7))
     ev = claims.Evidence({}, {**small, **large})
     assert claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")[1] is True
+    # the readings disagree at the support (detached: wider; region: narrower): undecided there
+    large = _rods("f4/c", 2, tip_end=5.0, bulk_end=75.0, detached_bottom=5.0, tip_contacts=(1, 7))
+    ev = claims.Evidence({}, {**small, **large})
+    holds, note = claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")[1::2]
+    assert holds is None and "at the support undecided" in note
 
 
 def test_printed_decay_readings_find_the_reading_that_predicts_the_printed_rate():

@@ -15,6 +15,7 @@ import yaml
 from confined_rod import claims, evidence, pipeline, postprocess
 from confined_rod.io import netcdf_attr
 
+from . import shapes
 from .test_convergence import ladder
 from .test_pipeline import fake_sim
 
@@ -185,22 +186,14 @@ def test_a_claim_on_a_run_not_at_equilibrium_is_not_testable():
     assert v.verdict == "not testable" and v.ours == "-"
     assert v.note == "evidence not at equilibrium (f/L20-s0 (step_cap); f/L20-s1 (time_cap))"
     # a measure on the simulations themselves: one member capped makes it not testable
-    small = {f"f7/s-s{i}": _contact(40, 180, i) for i in range(2)}
-    large = {f"f4/c-s{i}": _contact(10, 170, i) for i in range(2)}
+    small = {f"f7/s-s{i}": shapes.profile_rod(tip_end=20.0, seed=i)[0] for i in range(2)}
+    large = {f"f4/c-s{i}": shapes.profile_rod(tip_end=5.0, seed=i)[0] for i in range(2)}
     cm = {**c, "test": {"method": "measure", "name": "boundary_wider", "figures": ["f7", "f4"]}, "tolerance": None,
           "paper": "wider"}
     assert claims.evaluate_one(cm, claims.Evidence({}, {**small, **large})).verdict != "not testable"
     large["f4/c-s1"] = _unsettled(large["f4/c-s1"], "time_cap")
     v = claims.evaluate_one(cm, claims.Evidence({}, {**small, **large}))
     assert v.verdict == "not testable" and v.note == "evidence not at equilibrium (f4/c-s1 (time_cap))"
-
-
-def _contact(first_run, last_run_end, seed, n=200, l0=0.5):
-    contact = np.zeros(n, dtype=np.int8)
-    contact[first_run:last_run_end] = 1
-    return xr.Dataset({"contact": ("link", contact), "converged": ((), np.int8(1))},
-                      coords={"s_link": ("link", (np.arange(n) + 0.5) * l0)},
-                      attrs={"L": n * l0, "l0": l0, "k_fr": 0.8, "seed": seed, "status": "converged"})
 
 
 def test_a_convergence_rung_not_at_equilibrium_makes_the_ladder_inconclusive():

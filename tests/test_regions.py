@@ -12,48 +12,11 @@ import xarray as xr
 
 from confined_rod import measure, regions
 
-L, L0, R, EI, K_FR, LOAD = 100.0, 0.5, 1.0, 1.0, 0.8, 0.25
+from .shapes import PROFILE as _P
+from .shapes import profile_rod as constructed
+
+L, L0, R, EI, K_FR, LOAD = (_P[k] for k in ("L", "l0", "R", "EI", "k_fr", "load"))
 N = int(L / L0)
-
-
-def constructed(tip_end=6.0, bulk_end=70.0, q_lower=0.1, tip_contacts=(1, 7), detached_bottom=None):
-    """A rod with a tip (0 <= s < tip_end: isolated contacts, friction axial at the limit there),
-    a bulk (tip_end <= s <= bulk_end: every link on the wall, sliding axially at the Coulomb
-    limit, 1/|F| linear in s with the corrected slope) and a lower region (on the wall, axial
-    friction q_lower of the limit, so |F| falls slowly). Friction and F_z are consistent:
-    |F_z| falls along s by the axial friction of each link."""
-    s = np.arange(N + 1) * L0
-    s_link = (np.arange(N) + 0.5) * L0
-    contact = np.zeros(N, dtype=np.int8)
-    contact[list(tip_contacts)] = 1
-    contact[(s_link >= tip_end) & (s_link <= L)] = 1
-    if detached_bottom is not None:
-        contact[s_link > L - detached_bottom] = 0
-    rate = K_FR * R / (4 * EI)
-    F_tip = 0.2                                       # after the tip drop
-    F = np.empty(N + 1)
-    F[0] = LOAD
-    fz = np.zeros(N)
-    # the tip: the contacts carry the drop from LOAD to F_tip
-    tips = [i for i in tip_contacts]
-    for i in range(N):
-        if s_link[i] < tip_end:
-            fz[i] = (LOAD - F_tip) / len(tips) if i in tips else 0.0
-        elif s_link[i] <= bulk_end:
-            F_here = F[i]
-            fz[i] = F_here - 1.0 / (1.0 / F_here + rate * L0)
-        else:
-            fz[i] = q_lower * 1e-3
-        F[i + 1] = F[i] - fz[i]
-    # wall force: in the tip and bulk the friction is at its limit (fz = k_fr N);
-    # in the lower region N is that of the bulk's end and fz a share q_lower of k_fr N
-    N_w = np.where(contact == 1, np.where(s_link <= bulk_end, fz / K_FR, 1e-3 / K_FR), 0.0)
-    ds = xr.Dataset(
-        {"F_z": (("joint",), -F), "contact": (("link",), contact), "wall_force": (("link",), N_w),
-         "friction_z": (("link",), fz * (contact == 1)), "friction_force": (("link",), fz * (contact == 1))},
-        coords={"s": (("joint",), s), "s_link": (("link",), s_link)},
-        attrs={"L": L, "l0": L0, "R": R, "EI": EI, "k_fr": K_FR, "friction_cap": 0.0, "load": LOAD})
-    return ds, rate
 
 
 def test_regions_are_found_where_they_were_built():
@@ -101,6 +64,31 @@ def test_decay_rate_window_effect():
     assert d.halves[0] == pytest.approx(0.2, rel=0.02) and d.halves[1] == pytest.approx(0.1, rel=0.02)
     assert d.err == pytest.approx(0.05, rel=0.05)
     assert 0.1 < d.rate < 0.2
+
+
+def test_contact_range_skips_the_isolated_tip_contacts():
+    """The end links of a buckled rod touch the wall: the contact stretch that the fits use
+    starts at the first run of links on the wall (s = 6 R), not at the tip contact of link 1
+    (s = 0.5 R), and ends 15 R above the support, not at the last link."""
+    ds, _ = constructed(tip_end=6.0, detached_bottom=15.0)
+    contact = ds["contact"].values.copy()
+    contact[-1] = 1                                  # the support end touches the wall too
+    ds["contact"] = ("link", contact)
+    s_h, s_e = measure.contact_range(ds)
+    assert s_h == pytest.approx(6.0, abs=L0)
+    assert s_e == pytest.approx(L - 15.0, abs=L0)
+
+
+def test_contact_range_of_a_rod_without_a_run_on_the_wall():
+    """A planar rod touching the wall at three isolated links: first to last contact; no
+    contact: (L, L)."""
+    ds, _ = constructed()
+    contact = np.zeros(N, dtype=np.int8)
+    contact[[10, 60, 150]] = 1
+    ds["contact"] = ("link", contact)
+    assert measure.contact_range(ds) == pytest.approx((10 * L0, 151 * L0))
+    ds["contact"] = ("link", np.zeros(N, dtype=np.int8))
+    assert measure.contact_range(ds) == (L, L)
 
 
 def test_smooth_is_a_running_mean():

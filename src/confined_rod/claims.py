@@ -20,8 +20,9 @@ from typing import Any, Callable, Mapping
 import numpy as np
 import xarray as xr
 
-from . import ensembles
+from . import ensembles, regions
 from .errors import ConfigError
+from .fits import DEGENERATE_FALL, undetermined
 from .io import read_yaml
 from .measure import detached_lengths, force_at_links
 from .measure import half_reduction_length as half_reduction_length_of
@@ -469,7 +470,22 @@ def defects_after_unloading(ev, spec, claim):
 
 
 # -- window-aware verdicts: the bulk helix and the whole wall-contact stretch ----------------------
-DEGENERATE_FALL = 2.0   # a 3-parameter power law fitted where |F_z| falls by less than this is not determined
+#: the threshold and a factor sqrt(2) either side: a verdict that changes among them rests on the
+#: choice of the threshold, not on the data, and is inconclusive
+FALL_THRESHOLDS = (DEGENERATE_FALL / math.sqrt(2), DEGENERATE_FALL, DEGENERATE_FALL * math.sqrt(2))
+_WORD = {True: "holds", False: "fails", None: "undecided"}
+
+
+def _threshold_robust(test: Callable[[float], tuple[float, bool | None, str, str]]):
+    """test(fall_min) at DEGENERATE_FALL, its verdict kept only if the same at every threshold
+    of FALL_THRESHOLDS (else inconclusive, the note saying how it changes)."""
+    results = {fm: test(fm) for fm in FALL_THRESHOLDS}
+    value, holds, evidence, note = results[DEGENERATE_FALL]
+    if len({r[1] for r in results.values()}) > 1:
+        holds = None
+        note += ("; the verdict depends on the fall below which a window does not determine a fit: "
+                 + ", ".join(f"{_WORD[r[1]]} at {fm:.3g}x" for fm, r in results.items()))
+    return value, holds, evidence, note
 
 
 def _combine(parts: list[bool | None]) -> bool | None:
@@ -499,31 +515,32 @@ def _panel_value(ds, var: str, i: int, ensemble: str | None = None) -> tuple[flo
     return float(ds[var].values[i]), 0.0
 
 
-def _exponent_windows(ds, i: int) -> dict[str, tuple[float, float, str]]:
+def _exponent_windows(ds, i: int, fall_min: float = DEGENERATE_FALL) -> dict[str, tuple[float, float, str]]:
     """c over the whole stretch and over the bulk of panel i: (value, nan without a fit; seed
-    s.d.; why the window does not determine c, empty if it does)."""
+    s.d.; why the window does not determine c, empty if it does: |F_z| falls by less than
+    fall_min over it)."""
     out = {}
     c_w, sd_w = _panel_value(ds, "fit_c", i, "fit_c")
-    fall_w = float(ds.fall_whole.values[i])
-    out["whole"] = (c_w, sd_w, "" if fall_w >= DEGENERATE_FALL else
-                    f"|F_z| falls only {fall_w:.3g}x over the whole stretch")
+    why = undetermined(float(ds.fit_c.values[i]), float(ds.fall_whole.values[i]), fall_min)
+    out["whole"] = (c_w, sd_w, why and why + " over the whole stretch")
     if int(ds.has_fit_bulk.values[i]) == 0:
         out["bulk"] = (math.nan, 0.0, "no bulk helix")
     else:
         c_b, sd_b = _panel_value(ds, "fit_c_bulk", i, "fit_c_bulk")
-        fall_b = float(ds.fall_bulk.values[i])
-        out["bulk"] = (c_b, sd_b, "" if fall_b >= DEGENERATE_FALL else f"|F_z| falls only {fall_b:.3g}x over the bulk")
+        why = undetermined(float(ds.fit_c_bulk.values[i]), float(ds.fall_bulk.values[i]), fall_min)
+        out["bulk"] = (c_b, sd_b, why and why + " over the bulk")
     return out
 
 
 def _compare_exponent(windows, target: float, tol: float) -> tuple[bool | None, float, str]:
     """Does c agree with target within max(tol, seed s.d.) on both windows? Also the largest
-    deviation over the windows that have a fit (determined or not: it is reported, not judged)."""
-    oks, texts, worst = [], [], 0.0
+    deviation over the windows that determine c (nan if none does: a fit the pipeline calls
+    undetermined is reported in the text, never as our value)."""
+    oks, texts, worst = [], [], math.nan
     for name in ("whole", "bulk"):
         c, sd, why = windows[name]
-        if math.isfinite(c):
-            worst = max(worst, abs(c - target))
+        if math.isfinite(c) and not why:
+            worst = abs(c - target) if math.isnan(worst) else max(worst, abs(c - target))
         if why:
             oks.append(None)
             texts.append(f"{name}: " + (f"{c:.3f}, " if math.isfinite(c) else "") + f"not determined ({why})")
@@ -540,54 +557,74 @@ def exponents(ev, spec, claim):
     """The fitted exponent c of every panel of the figures (spec figures, optional panels),
     against the paper's printed c of the panel or the value `around`, on the whole wall-contact
     stretch and on the bulk helix (confined_rod.regions), each within max(tolerance, seed s.d.).
-    A window where |F_z| falls by less than 2x does not determine c. Reproduced if every panel
-    agrees on both windows, refuted if a panel disagrees on both, else inconclusive."""
+    A window where |F_z| falls by less than 2x does not determine c (checked at FALL_THRESHOLDS).
+    Reproduced if every panel agrees on both windows, refuted if a panel disagrees on both, else
+    inconclusive. Value: the largest deviation over the windows that determine c (nan: none does)."""
+    return _threshold_robust(lambda fall_min: _exponents(ev, spec, claim, fall_min))
+
+
+def _exponents(ev, spec, claim, fall_min):
     tol = float(spec["tol"])
-    parts, notes, worst, files = [], [], 0.0, []
+    parts, notes, devs, files = [], [], [], []
     for fig in spec["figures"]:
         ds = ev.dataset(fig, claim)
         files.append(f"results/datasets/{fig}.nc")
         for i in range(ds.sizes["panel"]):
             target = float(spec["around"]) if "around" in spec else float(ds.paper_fit_c.values[i])
-            ok, dev, text = _compare_exponent(_exponent_windows(ds, i), target, tol)
+            ok, dev, text = _compare_exponent(_exponent_windows(ds, i, fall_min), target, tol)
             parts.append(ok)
-            worst = max(worst, dev)
+            devs.append(dev)
             notes.append(f"{fig} {_panel_label(ds, i)} vs {target:g}: {text}")
-    return worst, _combine(parts), ", ".join(f + ":fit_c, fit_c_bulk, fall_whole, fall_bulk" for f in files), \
-        "; ".join(notes)
+    return _nanmax(devs), _combine(parts), \
+        ", ".join(f + ":fit_c, fit_c_bulk, fall_whole, fall_bulk" for f in files), "; ".join(notes)
+
+
+def _nanmax(values) -> float:
+    """The largest finite value, nan if there is none (no window determined the quantity)."""
+    finite = [v for v in values if math.isfinite(v)]
+    return max(finite) if finite else math.nan
 
 
 @measure
 def exponent_change_windows(ev, spec, claim):
-    """|c(small load) - c(Fig 4(c))| on both windows, within tol + the larger seed s.d."""
+    """|c(small load) - c(Fig 4(c))| on both windows, within tol + the larger seed s.d.; value:
+    the largest change over the windows where both fits are determined (nan: none)."""
+    return _threshold_robust(lambda fall_min: _exponent_change(ev, spec, claim, fall_min))
+
+
+def _exponent_change(ev, spec, claim, fall_min):
     small, large = spec["figures"]
     a, b = ev.dataset(small, claim), ev.dataset(large, claim)
-    wa, wb = _exponent_windows(a, a.sizes["panel"] - 1), _exponent_windows(b, b.sizes["panel"] - 1)
-    tol, oks, texts, worst = float(spec["tol"]), [], [], 0.0
+    wa = _exponent_windows(a, a.sizes["panel"] - 1, fall_min)
+    wb = _exponent_windows(b, b.sizes["panel"] - 1, fall_min)
+    tol, oks, texts, changes = float(spec["tol"]), [], [], []
     for name in ("whole", "bulk"):
         (ca, sa, why_a), (cb, sb, why_b) = wa[name], wb[name]
         change = abs(ca - cb) if math.isfinite(ca) and math.isfinite(cb) else math.nan
-        if math.isfinite(change):
-            worst = max(worst, change)
         text = f"{name}: c = {ca:.3f} against {cb:.3f}"
         if why_a or why_b:
             oks.append(None)
             texts.append(f"{text}, not determined ({why_a or why_b})")
             continue
+        changes.append(change)
         t = tol + max(sa, sb)
         oks.append(change <= t)
         texts.append(f"{text}, |change| {change:.3f} (limit {t:.2g})")
-    return worst, _two_windows(*oks), f"results/datasets/{small}.nc, results/datasets/{large}.nc:fit_c, fit_c_bulk", \
-        "; ".join(texts)
+    return _nanmax(changes), _two_windows(*oks), \
+        f"results/datasets/{small}.nc, results/datasets/{large}.nc:fit_c, fit_c_bulk", "; ".join(texts)
 
 
 @measure
 def power_law_quality(ev, spec, claim):
     """Largest rms relative residual of our power-law fits, over the whole stretch and over the
     bulk; a window where |F_z| falls by less than 2x cannot test a power law (any smooth curve
-    fits it)."""
+    fits it; checked at FALL_THRESHOLDS). Value: the largest residual of a determined window."""
+    return _threshold_robust(lambda fall_min: _power_law_quality(ev, spec, claim, fall_min))
+
+
+def _power_law_quality(ev, spec, claim, fall_min):
     tol = float(spec["tol"])
-    parts, notes, worst = [], [], 0.0
+    parts, notes, worst = [], [], math.nan
     for fig in spec["figures"]:
         ds = ev.dataset(fig, claim)
         for i in range(ds.sizes["panel"]):
@@ -599,9 +636,10 @@ def power_law_quality(ev, spec, claim):
                     texts.append(f"{name}: no fit")
                     continue
                 r, f = float(ds[rms].values[i]), float(ds[fall].values[i])
-                worst = max(worst, r)
-                oks.append(r <= tol if f >= DEGENERATE_FALL else None)
-                texts.append(f"{name} {100 * r:.2g} %" + ("" if f >= DEGENERATE_FALL else f" (falls only {f:.3g}x)"))
+                if f >= fall_min:
+                    worst = _nanmax([worst, r])
+                oks.append(r <= tol if f >= fall_min else None)
+                texts.append(f"{name} {100 * r:.2g} %" + ("" if f >= fall_min else f" (falls only {f:.3g}x)"))
             parts.append(_two_windows(*oks))
             notes.append(f"{fig} {_panel_label(ds, i)}: " + ", ".join(texts))
     files = ", ".join(f"results/datasets/{f}.nc:fit_rms, fit_rms_bulk" for f in spec["figures"])
@@ -886,21 +924,25 @@ def lower_region_torque(ev, spec, claim):
 def pitch_exponent(ev, spec, claim):
     """d ln|dphi/ds| / d ln|F_z| on the whole defined stretch and on the bulk helix against
     `expected` within `tol`; a window over which |F_z| falls by less than 2x does not
-    determine a slope."""
+    determine a slope (checked at FALL_THRESHOLDS); value: the bulk slope (nan if not determined)."""
     ds = ev.dataset(spec["figure"], claim)
     target, tol = float(spec["expected"]), float(spec["tol"])
-    oks, texts, worst = [], [], 0.0
-    for name in ("whole", "bulk"):
-        e, fall = float(ds[f"exponent_omega_F_{name}"]), float(ds[f"fall_{name}"])
-        if fall < DEGENERATE_FALL:
-            oks.append(None)
-            texts.append(f"{name}: {e:.3f}, not determined (|F_z| falls only {fall:.3g}x)")
-            continue
-        oks.append(abs(e - target) <= tol)
-        worst = max(worst, abs(e - target))
-        texts.append(f"{name}: {e:.3f}")
-    value = float(ds["exponent_omega_F_bulk"])
-    holds = _two_windows(*oks)
+
+    def windows(fall_min):
+        oks, texts = [], []
+        for name in ("whole", "bulk"):
+            e, fall = float(ds[f"exponent_omega_F_{name}"]), float(ds[f"fall_{name}"])
+            if fall < fall_min:
+                oks.append(None)
+                texts.append(f"{name}: {e:.3f}, not determined (|F_z| falls only {fall:.3g}x)")
+                continue
+            oks.append(abs(e - target) <= tol)
+            texts.append(f"{name}: {e:.3f}")
+        value = float(ds["exponent_omega_F_bulk"]) if oks[1] is not None else math.nan
+        return value, _two_windows(*oks), "", "; ".join(texts)
+
+    value, holds, _, note = _threshold_robust(windows)
+    texts = [note]
     if "seeds_from" in spec and holds is not None:
         # the same slope on every seed of an ensemble of the same rod (same L, load, k_fr) in another
         # figure: a verdict that a seed flips is luck
@@ -944,28 +986,48 @@ def small_load_transmits_more(ev, spec, claim):
         f"F(L)/F(0) = {f7:.3g} against {f4:.3g}"
 
 
+def _boundary_regions(sim: xr.Dataset) -> tuple[float, float]:
+    """(tip, lower region) lengths of the force profile (regions.analyse)."""
+    r = regions.analyse(sim).regions
+    return r.tip_length, r.lower_length
+
+
 @measure
 def boundary_wider(ev, spec, claim):
-    """Detached lengths at both ends (measure.detached_lengths: s = 0 is the loaded end) of the
-    small-load rod against the large-load one, ensemble means over seeds where the scenes are
-    seed ensembles. The paper's "boundary regions" are both ends: holds if both are wider,
-    inconclusive if only one is."""
+    """The boundary regions of the small-load rod against the large-load one (Fig 7 against
+    Fig 4(c)), at each end (s = 0 is the loaded end), in two readings: the detached lengths
+    (measure.detached_lengths) and the regions of the force profile (regions.analyse: the tip
+    and the lower region). An end is wider (narrower) if in both readings every seed of the
+    small load lies above (below) every seed of the large one, else undecided. The paper's
+    "boundary regions" are both ends: holds if both are wider, refuted if one is narrower, else
+    inconclusive. Value: the loaded end's detached length, ratio of the ensemble means."""
     small, large = spec["figures"]
     m7, m4 = ev.members(small, -1, claim), ev.members(large, -1, claim)
     if float(m4[0][1].attrs["k_fr"]) < float(m7[0][1].attrs["k_fr"]):
         raise ClaimError(f"claim {claim!r}: the longest-L scene of {large} is not its panel (c)")
-    d7 = np.array([detached_lengths(d) for _, d in m7])
-    d4 = np.array([detached_lengths(d) for _, d in m4])
-    top7, bot7 = d7.mean(axis=0)
-    top4, bot4 = d4.mean(axis=0)
-    wider = (top7 > top4, bot7 > bot4)
-    holds = True if all(wider) else (False if not any(wider) else None)
-    note = (f"detached at the loaded end {top7:.3g} R against {top4:.3g} R, at the support {bot7:.3g} R against "
-            f"{bot4:.3g} R (means over {len(m7)} and {len(m4)} seeds)")
-    if holds is None:
-        note += "; only one end is wider"
+    readings = {"detached": detached_lengths, "region": _boundary_regions}
+    ends, texts = [], []
+    for j, end in enumerate(("the loaded end", "the support")):
+        calls, parts = [], []
+        for name, read in readings.items():
+            a = np.array([read(d)[j] for _, d in m7])
+            b = np.array([read(d)[j] for _, d in m4])
+            calls.append("wider" if a.min() > b.max() else ("narrower" if a.max() < b.min() else "overlapping"))
+            parts.append(f"{name} {a.mean():.3g} R ({a.min():.3g}-{a.max():.3g}) against {b.mean():.3g} R "
+                         f"({b.min():.3g}-{b.max():.3g})")
+        ends.append(calls[0] if len(set(calls)) == 1 and calls[0] != "overlapping" else None)
+        texts.append(f"at {end} {ends[-1] or 'undecided'}: " + ", ".join(parts))
+    holds = True if all(e == "wider" for e in ends) else (False if "narrower" in ends else None)
+    note = ("; ".join(texts) + f" (means and seed ranges over {len(m7)} and {len(m4)} seeds; "
+            "detached: to the first or from the last run of links on the wall; region: the tip and the lower "
+            "region of the force profile)")
+    if holds is False and "wider" in ends:
+        note = "refuted as stated, holds at " + ("the loaded end" if ends[0] == "wider" else "the support") + \
+            " only: " + note
+    top7 = np.mean([detached_lengths(d)[0] for _, d in m7])
+    top4 = np.mean([detached_lengths(d)[0] for _, d in m4])
     return top7 / max(top4, 1e-300), holds, \
-        f"{ev.file(m7[0][0])}, {ev.file(m4[0][0])} (and their seeds):contact, s_link", note
+        f"{ev.file(m7[0][0])}, {ev.file(m4[0][0])} (and their seeds):contact, s_link, F_z, friction_z", note
 
 
 @measure
@@ -1125,6 +1187,10 @@ def _within(ours, paper, tol):
     return abs(ours - paper) <= x
 
 
+#: our value where no window of the data determines it (an inconclusive verdict says why)
+NOT_DETERMINED = "not determined"
+
+
 def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
     """A claim's verdict; if anything it read comes from a run that is not at equilibrium, the
     verdict is 'not testable' and the note names those runs (the measure is not trusted, and
@@ -1179,9 +1245,13 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
             holds = True
         else:
             ours_value, holds, evidence, note = MEASURES[test["name"]](ev, test, cid)
-        if not math.isfinite(ours_value):
+        if math.isnan(ours_value) and holds is None:
+            # the measure found no window that determines the quantity (the note says why): no value
+            ours, ours_value = NOT_DETERMINED, None
+        elif not math.isfinite(ours_value):
             raise ClaimError(f"claim {cid!r}: the measured value is not finite ({evidence})")
-        ours = fmt(ours_value, c.get("format"))
+        else:
+            ours = fmt(ours_value, c.get("format"))
         if tol and holds is not None:
             holds = holds and _within(ours_value, paper_value, tol)
     if paper_src:

@@ -19,6 +19,23 @@ from scipy.optimize import curve_fit
 PARAMS = ("A", "l0_fit", "c")
 
 
+C_BOUND = 10.0          # the fit keeps |c| <= C_BOUND; a fit at the bound has not found an exponent
+DEGENERATE_FALL = 2.0   # a 3-parameter power law fitted where F falls by less than this is not determined
+
+
+def undetermined(c: float, fall: float, fall_min: float = DEGENERATE_FALL) -> str:
+    """Why a fit of exponent c over a window where the profile falls by the factor `fall` does
+    not determine c ('' if it does): over a fall of less than fall_min any smooth decreasing
+    curve fits with some (A, l0', c) (the three are degenerate), and a fit stopped at the bound
+    of c has found no exponent. The formal errors do not show either: they are small along the
+    degenerate valley."""
+    if fall < fall_min:
+        return f"|F_z| falls only {fall:.3g}x"
+    if abs(c) >= C_BOUND * (1 - 1e-6):
+        return f"c at the fit's bound {-C_BOUND:g}" if c < 0 else f"c at the fit's bound {C_BOUND:g}"
+    return ""
+
+
 class FitError(RuntimeError):
     """A fit that cannot be done (too few points, no convergence)."""
 
@@ -58,7 +75,7 @@ def fit_power_law(s: np.ndarray, F: np.ndarray, *, guess: tuple[float, float, fl
     A0, l00, c0 = guess
     try:
         popt, pcov = curve_fit(power_law, s, F, p0=(A0, max(l00, 1e-3), c0), sigma=F, absolute_sigma=False,
-                               bounds=([0.0, 0.0, -10.0], [np.inf, np.inf, 10.0]), max_nfev=20000)
+                               bounds=([0.0, 0.0, -C_BOUND], [np.inf, np.inf, C_BOUND]), max_nfev=20000)
     except (RuntimeError, ValueError) as e:
         raise FitError(f"power-law fit did not converge: {e}") from e
     if not (np.all(np.isfinite(pcov)) and np.all(np.diag(pcov) > 0)):

@@ -31,12 +31,20 @@ def bulk_pitch(sim: xr.Dataset) -> float:
 
 def contact_range(sim: xr.Dataset) -> tuple[float, float]:
     """Arc lengths of the joints that bound the wall-contact stretch: the upper end of the
-    first link on the wall and the lower end of the last one (wall forces act on link
-    ends). (L, L) if no link touches the wall."""
-    s = sim["s_link"].values[sim["contact"].values == 1]
-    if s.size == 0:
-        L = float(sim.attrs["L"])
+    first run of at least HELIX_RUN consecutive links on the wall and the lower end of the
+    last such run (wall forces act on link ends), i.e. (detached length at the loaded end,
+    L - detached length at the support).  Isolated contacts of a detached tip do not start
+    the stretch (the end links of a buckled rod touch the wall, so the first and last contacts
+    would make the stretch the whole rod).  Without such a run (a planar rod on a few points):
+    the first and the last link on the wall; (L, L) if no link touches it."""
+    L = float(sim.attrs["L"])
+    contact = np.asarray(sim["contact"].values)
+    if not contact.any():
         return L, L
+    if helix_runs(contact):
+        top, bottom = detached_lengths(sim)
+        return top, L - bottom
+    s = np.asarray(sim["s_link"].values, dtype=float)[contact == 1]
     half = 0.5 * float(sim.attrs["l0"])
     return float(s.min() - half), float(s.max() + half)
 

@@ -168,8 +168,9 @@ _Q = SCENE_PARAMETERS + [
     Quantity("fit_c", "c", "exponent c of the fit A (l0' + s)^c", "1"),
     Quantity("fit_cov", "", "covariance of the fit parameters (A, l0', c)", "mixed"),
     Quantity("fit_rms", "", "rms relative residual of the fit in its window", "1"),
-    Quantity("s_h", "s_h", "arc length of the first link touching the wall (start of the helix)", "R"),
-    Quantity("s_end", "s_e", "arc length of the last link touching the wall", "R"),
+    Quantity("s_h", "s_h", "arc length where the wall-contact stretch starts (the first run of links on the wall, "
+             "after the isolated contacts of a detached tip)", "R"),
+    Quantity("s_end", "s_e", "arc length where the wall-contact stretch ends (the last run of links on the wall)", "R"),
     Quantity("panel_value", "", "value of the parameter that differs between the panels", "1"),
     Quantity("n_fit", "", "number of joints in the fit window", "1"),
     Quantity("scene", "", "scene id in the config", "1"),

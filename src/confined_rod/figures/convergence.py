@@ -102,6 +102,11 @@ def validate(figure, fig_cfg, built, publication_value=None) -> None:
                           f"must contain the publication value {p} = {pub:g}")
 
 
+#: an ensemble ladder draws (and checks) the pitch only where it is defined on every rung it reads
+PITCH_PANEL = ("the bulk pitch (a panel only where every rung the verdict reads is a helix of at least one turn; "
+               "else the pitch is not checked and not drawn)")
+
+
 def caption(figure, fig_cfg, built, publication_value=None) -> str:
     p = fig_cfg["parameter"]
     sc = next(iter(built.values()))
@@ -112,7 +117,7 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
         what = "a quasi-static load ramp of n_ramp steps" if p == "ramp_steps" else p
         return (f"Convergence in the path to equilibrium: {what}, {p} = {vals} (L/R = {sc.L:g}, load = "
                 f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds: ensemble means of the "
-                f"transmitted force, L_z and bulk pitch against the refinement variable (error bars two standard "
+                f"transmitted force, L_z and {PITCH_PANEL} against the refinement variable (error bars two standard "
                 f"errors), grey dots and lines the single seeds, red circles the seeds that end in another final "
                 f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band "
                 f"of +-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The rungs are compared "
@@ -122,7 +127,7 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
                 "verdict (results/checks).")
     if n > 1:
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}), each rung a seed ensemble of "
-                f"{n:g} runs: ensemble means of the transmitted force, L_z and bulk pitch against the refinement "
+                f"{n:g} runs: ensemble means of the transmitted force, L_z and {PITCH_PANEL} against the refinement "
                 f"variable, error bars two standard errors, grey dots the single seeds; the band of "
                 f"+-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The publication value "
                 f"{p} = {publication_value:g} passes when its difference from every finer rung plus two combined "

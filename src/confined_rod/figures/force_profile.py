@@ -16,13 +16,15 @@ the range of |F_z(s)| over the members.
 """
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import xarray as xr
 
 from .. import ensembles, regions, theory
 from .. import plotting as P
 from ..errors import ConfigError
-from ..fits import PARAMS, FitError, fit_power_law, power_law
+from ..fits import PARAMS, FitError, fit_power_law, power_law, undetermined
 from ..io import variable
 from ..measure import contact_range, euler_ratio, n_turns
 from ..quantities import attrs, error_attrs, label
@@ -90,7 +92,8 @@ def caption(figure, fig_cfg, built) -> str:
     body += (" Black: simulation; red: fit A (l0' + s)^c over the wall-contact stretch (grey band; "
              f"trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; values and standard errors in the "
              "panel and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
-             "from the first wall contact s_h; grey dotted: the same with the paper's 2EI.")
+             "from the start of the helix on the wall s_h (the first run of links on the wall; a detached tip's "
+             "isolated contacts are not part of it); grey dotted: the same with the paper's 2EI.")
     body += (" Lower row: 1/|F_z| against s, with the three regions of the rod found from the data "
              "(confined_rod.regions): the tip at the loaded end (orange), the bulk helix where the wall friction is "
              "axial and at its Coulomb limit (green), and the lower region where it is stuck or azimuthal (violet). "
@@ -416,6 +419,79 @@ def _plot_local_law(ax, d, s) -> None:
     ax.set_xlabel(label("s"))
 
 
+#: curves of the upper row: the data (and the fits to it), then the models; the scale follows
+#: the data, the free corners and the log range all of them
+DATA_CURVES = ("F_abs", "F_fit", "F_paper_fit", "F_abs_min", "F_abs_max")
+CURVES = DATA_CURVES + ("F_simple", "F_simple_paper")
+LOG_SPAN = 30.0     # data spanning more than this factor are drawn on a log axis
+TEXT_ROOM = 0.46    # share of the panel height two stacked text blocks take (six lines at 7.5 pt)
+
+
+def _y_range(ax, ds: xr.Dataset) -> tuple[float, float]:
+    """One y range for every panel: linear from 0 where the data span less than LOG_SPAN (about
+    a decade: a log axis would leave most of the panel empty), else logarithmic over all curves
+    with room below them for the text blocks. Returns the limits set."""
+    def positive(keys):
+        v = np.concatenate([np.ravel(ds[k].values) for k in keys if k in ds])
+        return v[np.isfinite(v) & (v > 0)]
+    data, every = positive(DATA_CURVES), positive(CURVES)
+    if float(data.max()) / float(data.min()) < LOG_SPAN:
+        ax.set_ylim(0.0, 1.12 * float(every.max()))
+    else:
+        ax.set_yscale("log")
+        ax.set_ylim(0.02 * float(every.min()), 1.15 * float(every.max()))
+        P.plain_log_ticks(ax.yaxis)
+    return ax.get_ylim()
+
+
+def _free_corner(d: xr.Dataset, s: np.ndarray, ylim: tuple[float, float], room: float) -> str:
+    """'top' or 'bottom': where on the right half of a linear panel its curves leave `room`
+    (a share of the height) free; else the freer of the two."""
+    right = s >= 0.45 * s[-1]
+    vals = np.concatenate([d[k].values[right] for k in CURVES if k in d])
+    vals = vals[np.isfinite(vals)]
+    lo, hi = ylim
+    top, bottom = (hi - float(vals.max())) / (hi - lo), (float(vals.min()) - lo) / (hi - lo)
+    if top >= room:
+        return "top"
+    return "bottom" if bottom >= room or bottom > top else "top"
+
+
+def _math(text: str) -> str:
+    """A plain-text note in mathtext: |F_z|, negative numbers and the 'x' of a factor."""
+    text = re.sub(r"(?<=\d)x", r"$\\times$", text.replace("|F_z|", "$|F_z|$"))
+    return re.sub(r"(?<![\w$])-(\d+(\.\d+)?)", r"$-\1$", text)
+
+
+def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
+    """Our fit and transmitted fraction (red) and the paper's printed numbers (orange) in the
+    corner of the right half that the curves leave free; a wide single panel holds the two
+    blocks side by side, narrow panels stack them. The full fit parameters are in the dataset
+    and the claims."""
+    s = d["s"].values
+    log = ax.get_yscale() == "log"
+    # three lines of 7.5 pt a block: side by side they take TEXT_ROOM / 2 of the height
+    corner = "bottom" if log else _free_corner(d, s, ylim, TEXT_ROOM / (2 if wide else 1))
+    va, y0, step = ("top", 0.97, -0.23) if corner == "top" else ("bottom", 0.03, 0.23)
+    why = undetermined(float(d.fit_c), float(d.fall_whole))
+    lines = [f"$c = {float(d.fit_c):.3f}$"] if not why else ["$c$ not determined", "(" + _math(why) + ")"]
+    if seeds and not why:
+        lines.append(f"(seeds ${float(d.fit_c_mean):.2f} \\pm {float(d.fit_c_std):.2f}$)")
+        lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f} \\pm {float(d.fraction_std):.3f}$")
+    else:
+        lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f}$")
+    blocks = [("\n".join(lines), P.FIT["color"])]
+    if int(d.has_paper_fit):
+        blocks.insert(0, (f"paper: $c = {float(d.paper_fit_c):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$\n"
+                          f"$f(L)/f(0) = {float(d.paper_fit_fraction):.3f}$", P.PAPER_FIT["color"]))
+    x0 = 0.97 if not log else 0.03
+    ha = "right" if not log else "left"
+    for k, (text, color) in enumerate(blocks if corner == "top" else blocks[::-1]):
+        x, y = (x0 - 0.45 * k * (1 if ha == "right" else -1), y0) if wide else (x0, y0 + k * step)
+        ax.text(x, y, text, transform=ax.transAxes, ha=ha, va=va, fontsize=7.5, color=color,
+                bbox=dict(fc="white", ec="none", alpha=0.7, pad=1.0))
+
+
 def plot(ds: xr.Dataset):
     n = ds.sizes["panel"]
     width = 6.8 if n > 1 else 4.6
@@ -440,28 +516,9 @@ def plot(ds: xr.Dataset):
         ax.plot(s[w], d["F_fit"].values[w], **P.FIT, label=r"our fit $A\,(l_0'+s)^c$")
         ax.plot(s, d["F_simple"], **P.MODEL, label=r"simple model, $K = RF^2/(4EI)$")
         ax.plot(s, d["F_simple_paper"], **P.PAPER, label=r"paper's form, $K = RF^2/(2EI)$")
-        # two short blocks below the curves (the full fit parameters are in the dataset and the claims)
-        lines = [f"$c = {float(d.fit_c):.3f}$"]
-        if "shown_seed" in ds:
-            lines.append(f"(seeds ${float(d.fit_c_mean):.2f} \\pm {float(d.fit_c_std):.2f}$)")
-            lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f} \\pm {float(d.fraction_std):.3f}$")
-        else:
-            lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f}$")
-        ax.text(0.03, 0.03, "\n".join(lines), transform=ax.transAxes, ha="left", va="bottom", fontsize=7.5,
-                color=P.FIT["color"])
         if int(d.has_paper_fit):
             ax.plot(s, d["F_paper_fit"], **P.PAPER_FIT, label="paper's printed fit")
-            # a wide single panel holds the two blocks side by side, narrow panels stack them
-            x, y, ha = (0.97, 0.03, "right") if n == 1 else (0.03, 0.23, "left")
-            ax.text(x, y, f"paper: $c = {float(d.paper_fit_c):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$\n"
-                    f"$f(L)/f(0) = {float(d.paper_fit_fraction):.3f}$",
-                    transform=ax.transAxes, ha=ha, va="bottom", fontsize=7.5, color=P.PAPER_FIT["color"])
-        ax.set_yscale("log")
-        # shared y range: every curve, with room below them for the two text blocks
-        low = min(float(ds["F_abs"].min()), float(ds["F_simple_paper"].min()))
-        high = max(float(ds["F_abs"].max()), float(ds["F_paper_fit"].max()))
-        ax.set_ylim((0.25 if n == 1 else 0.02) * low, 1.15 * high)     # room below the curves for the text
-        P.plain_log_ticks(ax.yaxis)
+        _profile_texts(ax, d, "shown_seed" in ds, n == 1, _y_range(ax, ds))
         ax.set_xlabel(label("s"))
         title = f"({chr(97 + i)})" if n > 1 else ""
         if p != "none":

@@ -24,7 +24,7 @@ from .. import plotting as P
 from .. import regions, theory
 from ..errors import ConfigError
 from ..io import variable
-from ..measure import force_at_links, handedness_reversals
+from ..measure import contact_range, force_at_links, handedness_reversals
 from ..quantities import label
 
 OPTIONS: dict = {}
@@ -75,15 +75,19 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     w_helix = theory.helix_pitch_rate(F_ok, R, EI)
     w_low = np.sqrt(F / (2.0 * EI))
 
-    span = s_h[-1] - s_h[0]
-    bulk = (s_h >= s_h[0] + BULK[0] * span) & (s_h <= s_h[0] + BULK[1] * span) & defined
+    # the stretch from the first to the last run of links on the wall (a detached tip's
+    # isolated contacts are not part of the helix)
+    lo, hi = contact_range(d)
+    stretch = (s_h >= lo) & (s_h <= hi)
+    span = hi - lo
+    bulk = (s_h >= lo + BULK[0] * span) & (s_h <= lo + BULK[1] * span) & defined
     fit = bulk & (np.abs(w) > 0)
     slope = float(np.polyfit(np.log(F[fit]), np.log(np.abs(w[fit])), 1)[0]) if fit.sum() >= 5 else 0.0
     # the same slope over the whole defined stretch and over the bulk helix of confined_rod.regions
     reg = regions.analyse(d).regions
     in_region = (s_h >= reg.s_bulk_start) & (s_h <= reg.s_bulk_end) & defined & (np.abs(w) > 0)
     slopes = {}
-    for key, m in (("whole", defined & (np.abs(w) > 0)), ("bulk", in_region)):
+    for key, m in (("whole", defined & stretch & (np.abs(w) > 0)), ("bulk", in_region)):
         slopes[key] = float(np.polyfit(np.log(F[m]), np.log(np.abs(w[m])), 1)[0]) if m.sum() >= 5 else 0.0
         slopes[key + "_fall"] = float(F[m].max() / F[m].min()) if m.sum() >= 5 else 1.0
     sb = s_h[bulk]

@@ -161,42 +161,50 @@ def _plot_local_law(bx, ds: xr.Dataset) -> None:
         sd = ds["bulk_decay_rate_std"].values / model
         ok = ok | has.any(axis=1)
         bx.errorbar(L[ok], mean[ok], yerr=sd[ok], fmt="o", ms=4.5, color="black", capsize=2.5,
-                    label="mean $\\pm$ s.d. over seeds")
+                    label=_seeds_label(ds))
     else:
         mean = ds["bulk_decay_rate"].values / model
         bx.errorbar(L[ok], mean[ok], yerr=(ds["bulk_decay_rate_err"].values / model)[ok], fmt="o", ms=4.5,
                     color="black", capsize=2.5, label="simulation")
-    bx.axhline(1.0, **P.MODEL, label=r"corrected, $k_{fr}R/(4EI)$")
-    bx.axhline(2.0, **P.PAPER, label=r"paper, $k_{fr}R/(2EI)$")
+    # the same line styles as (a)'s model curves, under the same legend entries
+    bx.axhline(1.0, **P.MODEL, label=MODEL_LABEL)
+    bx.axhline(2.0, **P.PAPER, label=PAPER_LABEL)
     bx.set_xscale("log")
     P.plain_log_ticks(bx.xaxis)
     bx.set_ylim(0, 2.4)
     bx.set_xlabel(label("L"))
     bx.set_ylabel(r"bulk $d(1/|F_z|)/ds$ over $k_{fr}R/(4EI)$")
     bx.set_title("(b) local decay law in the bulk helix", fontsize=9, loc="left")
-    bx.legend(loc="upper right", bbox_to_anchor=(1.0, 0.86), fontsize=7.5)
+
+
+def _seeds_label(ds: xr.Dataset) -> str:
+    n = ds["n_seeds"].values
+    return f"mean $\\pm$ s.d. of {int(n.min())}" + (f"-{int(n.max())}" if n.max() > n.min() else "") + " seeds"
+
+
+MODEL_LABEL = r"simple model, $K = RF^2/(4EI)$; (b): $k_{fr}R/(4EI)$"
+PAPER_LABEL = r"paper's Eq. (Fz-simple), $K = RF^2/(2EI)$; (b): $k_{fr}R/(2EI)$"
 
 
 def plot(ds: xr.Dataset):
     local = "bulk_decay_rate" in ds and bool((ds["has_bulk"].values == 1).any())
     if local:
-        fig, (ax, bx) = P.plt.subplots(1, 2, figsize=(7.0, 3.3), label=ds.attrs["title"])
+        fig, (ax, bx) = P.plt.subplots(1, 2, figsize=(7.0, 3.9), label=ds.attrs["title"])
         _plot_local_law(bx, ds)
     else:
         fig, ax = P.plt.subplots(figsize=(4.6, 3.4), label=ds.attrs["title"])
     L = ds["L"].values
     F = ds["F_transmitted"].values
     ok = ds["converged"].values == 1
-    ax.plot(ds["L_model"], ds["F_simple"], **P.MODEL, label=r"simple model, $K = RF^2/(4EI)$")
-    ax.plot(ds["L_model"], ds["F_simple_paper"], **P.PAPER, label=r"paper's Eq. (Fz-simple), $K = RF^2/(2EI)$")
+    ax.plot(ds["L_model"], ds["F_simple"], **P.MODEL, label=MODEL_LABEL if local else MODEL_LABEL.split(";")[0])
+    ax.plot(ds["L_model"], ds["F_simple_paper"], **P.PAPER, label=PAPER_LABEL if local else PAPER_LABEL.split(";")[0])
     ax.plot(L, F, "-", color="0.6", lw=0.7, label="eye guide")
     if "F_member" in ds:
         has = ds["has_member"].values == 1
         Lm = np.broadcast_to(L[:, None], has.shape)
         ax.plot(Lm[has], ds["F_member"].values[has], ".", ms=3, color="0.55", label="single seeds")
-        n = ds["n_seeds"].values
         ax.errorbar(L[ok], F[ok], yerr=ds["F_std"].values[ok], fmt="none", ecolor="black", elinewidth=0.9, capsize=2.5)
-        label_sim = f"mean $\\pm$ s.d. of {int(n.min())}" + (f"-{int(n.max())}" if n.max() > n.min() else "") + " seeds"
+        label_sim = _seeds_label(ds)
     else:
         label_sim = "simulation"
     ax.plot(L[ok], F[ok], "o", ms=5, **P.SIM, label=label_sim)
@@ -210,11 +218,21 @@ def plot(ds: xr.Dataset):
     ax.set_ylabel(label("F_transmitted"))
     ax.set_title(("(a) " if local else "") + P.params_text(ds, ("load", "k_fr", "l0")), fontsize=9,
                  loc="left" if local else "center")
-    # lower left is empty (every curve falls with L); "best" put the legend's
-    # marker among the data, where it read as an extra point
-    ax.legend(loc="lower left", fontsize=7.5)
-    if local:
-        bx.set_xlim(ax.get_xlim())       # the same lengths as (a): the short rods without a bulk have no point
-        P.plain_log_ticks(bx.xaxis)
-        fig.tight_layout()
+    if not local:
+        # lower left is empty (every curve falls with L); "best" put the legend's
+        # marker among the data, where it read as an extra point
+        ax.legend(loc="lower left", fontsize=7.5)
+        return fig
+    bx.set_xlim(ax.get_xlim())       # the same lengths as (a): the short rods without a bulk have no point
+    P.plain_log_ticks(bx.xaxis)
+    # one legend for both panels, below them: inside (a) it covered the model curves
+    handles, labels = [], []
+    for a in (ax, bx):
+        for h, lab in zip(*a.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    fig.legend(handles, labels, loc="lower center", ncol=2, fontsize=7.5, bbox_to_anchor=(0.5, 0.0))
+    rows = -(-len(labels) // 2)
+    fig.tight_layout(rect=(0, (0.16 * rows + 0.08) / fig.get_figheight(), 1, 1))
     return fig
