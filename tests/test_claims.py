@@ -267,6 +267,20 @@ def test_no_window_determines_the_exponent_so_there_is_no_value():
     assert "whole: -0.500, not determined (|F_z| falls only 1.3x over the whole stretch)" in v.note
 
 
+def test_a_printed_curve_is_not_compared_with_an_undetermined_fit_of_ours():
+    """The printed curve's distance from our profile is the verdict; our own fit is quoted beside
+    the printed parameters only where it is determined (the profile falls by 2x or more)."""
+    base = {"has_paper_fit": [1], "paper_rms_log_ratio": [0.3], "paper_rms_log_ratio_bulk": [0.25],
+            "paper_fit_A": [15.5], "paper_fit_l0": [2010], "paper_fit_c": [-0.942], "paper_fit_fraction": [0.87],
+            "fit_A": [0.88], "fit_l0": [288], "fit_c": [-0.757], "transmitted_fraction": [0.56]}
+    spec = {"figure": "f", "max_rms": 0.1}
+    for fall, text in ((1.46, "against ours not determined (|F_z| falls only 1.46x over the whole stretch)"),
+                       (3.0, "against ours 0.88, 288, -0.757")):
+        ev = claims.Evidence({"f": _fig({**base, "fall_whole": [fall]})})
+        value, holds, _, note = claims.MEASURES["printed_curves"](ev, spec, "x")
+        assert holds is False and value == pytest.approx(0.25) and text in note, note
+
+
 def _law_fig(ratios, errs, has=None):
     n = len(ratios)
     model = 0.2

@@ -76,3 +76,24 @@ def test_bulk_pitch_of_a_helix():
     sim = fake_sim(1.0, 0.1, turns=2.0)  # z = s/2 over 20 R and 2 turns: pitch 5 R
     assert bulk_pitch(sim) == pytest.approx(5.0, rel=1e-9)
     assert bulk_pitch(fake_sim(1.0, 0.1, turns=0.5)) == 0.0
+
+
+def test_a_long_verdict_is_shortened_for_the_figure_title_at_its_clauses_not_cut_mid_number():
+    from confined_rod.figures.convergence import TITLE_LINES, _title_lines
+    ramp = ("inconclusive: F_transmitted: paired by seed: 256: paired change +3.7 +- 2.8 % (s.e., 16 seeds, 95 % "
+            "bound 9.7 %), tolerance 1 %: undecided, about 69 seeds would decide; over the 14 seeds that keep their "
+            "final state -0.36 +- 0.22 % (largest 1.8 %); 2 of 16 seeds changed their final state: seed 5 +37 %; "
+            "pitch: paired by seed: 256: paired change +2.5 +- 2.3 % (s.e., 16 seeds, 95 % bound 7.5 %), tolerance "
+            "1 %: undecided, about 149 seeds would decide")
+    lines = _title_lines("convergence in $n_{ramp}$: ", ramp)
+    text = " ".join(lines)
+    assert len(lines) <= TITLE_LINES and "..." not in text
+    assert "F_transmitted: paired change +3.7 $\\pm$ 2.8 %; pitch: paired change +2.5 $\\pm$ 2.3 %" in text
+    assert text.endswith("(full verdict: results/checks)")
+    k_w = ("inconclusive: F_transmitted: differences do not shrink monotonically (no asymptotic range); L_z: finest "
+           "differences below a tenth of the tolerance (converged); pitch: finest differences below a tenth of the "
+           "tolerance (converged)")
+    text = " ".join(_title_lines("convergence in $k_w$: ", k_w))
+    assert "L_z" not in text and "F_transmitted: differences do not shrink monotonically" in text
+    assert _title_lines("convergence in $l_0$: ", "pass") == ["convergence in $l_0$: pass"]
+

@@ -200,7 +200,7 @@ def test_an_ensemble_ladder_whose_rungs_wind_differently_is_inconclusive_not_fai
     assert same.attrs["status"] == "fail"                                  # like with like: a decided fail
     wound = _l0_ladder(lambda l0: 3.3 if l0 >= 0.5 else 3.8)
     assert wound.attrs["status"].startswith("inconclusive: the rungs settle in different states")
-    assert "3.30 turns at 0.5, 3.80 at 0.25" in wound.attrs["status"]
+    assert "3.30 turns at 0.5 against 3.80 at 0.25" in wound.attrs["status"]
     # within STATE_TURNS the states are the same and the verdict is the statistics'
     assert _l0_ladder(lambda l0: 3.3 if l0 >= 0.5 else 3.5).attrs["status"] == "fail"
 

@@ -664,10 +664,12 @@ def printed_curves(ev, spec, claim):
         frac, sd = _panel_value(ds, "transmitted_fraction", i)
         if "fraction_std" in ds:
             sd = float(ds.fraction_std.values[i])
+        why = undetermined(float(ds.fit_c.values[i]), float(ds.fall_whole.values[i]))
+        ours = (f"ours not determined ({why} over the whole stretch)" if why else
+                f"ours {float(ds.fit_A.values[i]):.3g}, {float(ds.fit_l0.values[i]):.3g}, {float(ds.fit_c.values[i]):.3f}")
         notes.append(f"{_panel_label(ds, i)}: rms ln ratio {rw:.2g} (whole), {rb:.2g} (bulk); printed A = "
                      f"{float(ds.paper_fit_A.values[i]):g}, l0' = {float(ds.paper_fit_l0.values[i]):g}, c = "
-                     f"{float(ds.paper_fit_c.values[i]):g} against ours {float(ds.fit_A.values[i]):.3g}, "
-                     f"{float(ds.fit_l0.values[i]):.3g}, {float(ds.fit_c.values[i]):.3f}; F(L)/F(0) printed "
+                     f"{float(ds.paper_fit_c.values[i]):g} against {ours}; F(L)/F(0) printed "
                      f"{float(ds.paper_fit_fraction.values[i]):.3g}, ours {frac:.3g}" + (f" +- {sd:.2g}" if sd else ""))
     if not parts:
         raise ClaimError(f"claim {claim!r}: results/datasets/{spec['figure']}.nc has no printed fit")

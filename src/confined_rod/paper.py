@@ -608,11 +608,14 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
 
 
 def short_status(status: str, limit: int = STATUS_CHARS) -> str:
-    """A convergence verdict for the table: as it is up to `limit` characters, else cut at the
-    last word boundary before it (the table's caption points to the full text in
-    results/checks/<figure>.txt)."""
-    if len(status) <= limit:
-        return status
+    """A convergence verdict for the table: as it is up to `limit` characters, else its
+    headlines (figures.convergence.brief_status), else cut at the last word boundary before
+    the limit (the table's caption points to the full text in results/checks/<figure>.txt)."""
+    from .figures.convergence import brief_status
+
+    for text in (status, brief_status(status)):
+        if len(text) <= limit:
+            return text
     return status[:status.rfind(" ", 0, limit)].rstrip(",;:") + " ..."
 
 

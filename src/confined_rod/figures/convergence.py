@@ -42,6 +42,7 @@ state and those that changed it, each listed.
 from __future__ import annotations
 
 import math
+import re
 import textwrap
 from typing import Any, Mapping
 
@@ -409,7 +410,47 @@ def paired_verdict(values: np.ndarray, v: np.ndarray, seeds: np.ndarray, turns: 
     return status, dist, "paired by seed: " + "; ".join(parts)
 
 
-def winding_shift(values: np.ndarray, turns: np.ndarray, has: np.ndarray, ipub: int) -> list[str]:
+TITLE_WIDTH, TITLE_LINES = 95, 2
+
+
+def _first_clause(part: str) -> str:
+    """'F_transmitted: paired by seed: 256: paired change +3.7 +- 2.8 % (s.e., ...), ...' ->
+    'F_transmitted: paired change +3.7 +- 2.8 %': the observable and the last label of its
+    headline, cut before the first parenthesis or comma."""
+    name, sep, rest = part.partition(": ") if part.split(": ")[0] in OBSERVABLES else ("", "", part)
+    rest = re.split(r" \(|, ", rest, maxsplit=1)[0]
+    return name + sep + rest.rsplit(": ", 1)[-1]
+
+
+def brief_status(status: str) -> str:
+    """A verdict by its headlines: per observable that decides it ("F_transmitted: ...;
+    pitch: ..."; an observable that converged is left out) the first clause of its reason
+    (_first_clause). The full text is in results/checks."""
+    word, _, reasons = status.partition(": ")
+    if not reasons:
+        return status
+    # one part per observable ("F_transmitted: ...; pitch: ..."; a part may hold "; " itself)
+    starts = "|".join(re.escape(k) for k in OBSERVABLES)
+    parts = re.split(rf"; (?=(?:{starts}): )", reasons)
+    # an observable that converged is not why the verdict is what it is
+    parts = [_first_clause(part) for part in parts if not part.endswith("(converged)")] or [_first_clause(parts[0])]
+    return f"{word}: " + "; ".join(parts)
+
+
+def _title_lines(head: str, status: str) -> list[str]:
+    """The verdict as a figure title of at most TITLE_LINES lines: whole if it fits; else its
+    headlines (brief_status) with a pointer to the full text; only then cut at a word."""
+    def wrap(text):
+        return textwrap.wrap(head + text.replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH)
+    for text in (status, brief_status(status) + " (full verdict: results/checks)"):
+        lines = wrap(text)
+        if len(lines) <= TITLE_LINES:
+            return lines
+    return textwrap.wrap(head + status.replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH, max_lines=TITLE_LINES,
+                         placeholder=" ... (full verdict: results/checks)")
+
+
+def winding_shift(values: np.ndarray, turns: np.ndarray, has: np.ndarray, ipub: int) -> str:
     """Finer rungs whose helices settle in another state than the publication rung's: the mean
     winding of their helical members (at least one turn) differs by ensembles.STATE_TURNS or more,
     the project's measure of another final state. A difference of ensemble means across such
@@ -421,13 +462,13 @@ def winding_shift(values: np.ndarray, turns: np.ndarray, has: np.ndarray, ipub: 
     def mean(i):
         return float(turns[i, hel[i]].mean()) if hel[i].any() else math.nan
 
-    out = []
-    for j in range(ipub + 1, len(values)):
-        a, b = mean(ipub), mean(j)
-        if math.isfinite(a) and math.isfinite(b) and abs(b - a) >= ensembles.STATE_TURNS:
-            out.append(f"mean winding of the helical members {a:.2f} turns at {values[ipub]:g}, {b:.2f} at "
-                       f"{values[j]:g}: apart by {ensembles.STATE_TURNS:g} turn or more")
-    return out
+    a = mean(ipub)
+    apart = [f"{mean(j):.2f} at {values[j]:g}" for j in range(ipub + 1, len(values))
+             if math.isfinite(a) and math.isfinite(mean(j)) and abs(mean(j) - a) >= ensembles.STATE_TURNS]
+    if not apart:
+        return ""
+    return (f"mean winding of the helical members {a:.2f} turns at {values[ipub]:g} against "
+            + " and ".join(apart) + f": apart by {ensembles.STATE_TURNS:g} turn or more")
 
 
 def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
@@ -475,9 +516,9 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
         notes.append(note)
     checked = list(obs)
     bad = [f"{k}: {n}" for k, s, n in zip(checked, statuses, notes) if s == "inconclusive"]
-    moved = [] if paired else winding_shift(values, turns, has, ipub)
+    moved = "" if paired else winding_shift(values, turns, has, ipub)
     if moved:
-        status = "inconclusive: the rungs settle in different states (" + "; ".join(moved) + ")"
+        status = "inconclusive: the rungs settle in different states (" + moved + ")"
     elif bad:
         status = "inconclusive: " + "; ".join(bad)
     elif "fail" in statuses:
@@ -609,10 +650,8 @@ def plot(ds: xr.Dataset):
         P.plain_log_ticks(ax.xaxis)
         ax.set_xlabel(_H_LABEL[param])
         ax.set_ylabel(label(k))
-    status = ds.attrs["status"]
     head = f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
-    lines = textwrap.wrap(head + status.replace(" +- ", " $\\pm$ "), width=95, max_lines=2,
-                          placeholder=" ... (full verdict: results/checks)")
+    lines = _title_lines(head, ds.attrs["status"])
     fig.suptitle("\n".join(lines + [P.params_text(ds, ("L", "load", "k_fr"))]), fontsize=9)
     if ensemble:        # five entries: two rows
         P.bottom_legend(fig, axes[0][0], bottom=0.16, ncol=3)

@@ -477,6 +477,7 @@ def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
     lines = [f"$c = {float(d.fit_c):.3f}$"] if not why else ["$c$ not determined", "(" + _math(why) + ")"]
     if seeds and not why:
         lines.append(f"(seeds ${float(d.fit_c_mean):.2f} \\pm {float(d.fit_c_std):.2f}$)")
+    if seeds:
         lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f} \\pm {float(d.fraction_std):.3f}$")
     else:
         lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f}$")
