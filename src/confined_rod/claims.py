@@ -665,8 +665,9 @@ def printed_curves(ev, spec, claim):
         if "fraction_std" in ds:
             sd = float(ds.fraction_std.values[i])
         why = undetermined(float(ds.fit_c.values[i]), float(ds.fall_whole.values[i]))
-        ours = (f"ours not determined ({why} over the whole stretch)" if why else
-                f"ours {float(ds.fit_A.values[i]):.3g}, {float(ds.fit_l0.values[i]):.3g}, {float(ds.fit_c.values[i]):.3f}")
+        fit = (float(ds.fit_A.values[i]), float(ds.fit_l0.values[i]), float(ds.fit_c.values[i]))
+        ours = f"ours not determined ({why} over the whole stretch)" if why else \
+            f"ours {fit[0]:.3g}, {fit[1]:.3g}, {fit[2]:.3f}"
         notes.append(f"{_panel_label(ds, i)}: rms ln ratio {rw:.2g} (whole), {rb:.2g} (bulk); printed A = "
                      f"{float(ds.paper_fit_A.values[i]):g}, l0' = {float(ds.paper_fit_l0.values[i]):g}, c = "
                      f"{float(ds.paper_fit_c.values[i]):g} against {ours}; F(L)/F(0) printed "
