@@ -259,6 +259,25 @@ def test_an_exponent_verdict_near_the_degenerate_fall_is_inconclusive():
     assert claims.evaluate_one(c, ev).verdict == "refuted"
 
 
+def test_an_ensemble_exponent_is_taken_over_the_seeds_whose_fit_determines_it():
+    """Panel (a) of Fig 4 in the publication build: the shown seed's bulk falls 1.96x, two other
+    seeds' 2.16x and 2.59x. The panel's bulk exponent is the mean of those two, and it is tested."""
+    ds = _profile_fig(-0.55, -0.717, fall_whole=6.0, fall_bulk=1.96, paper_c=-0.882)
+    members = {"fit_c_member": [[-0.55] * 5], "has_fit_member": [[1] * 5], "fall_whole_member": [[6.0] * 5],
+               "fit_c_bulk_member": [[-0.717, -0.686, -0.70, -0.794, -0.71]], "has_fit_bulk_member": [[1] * 5],
+               "fall_bulk_member": [[1.96, 2.16, 1.93, 2.59, 1.95]]}
+    for k, v in members.items():
+        ds[k] = (("panel", "member"), np.asarray(v, dtype=float))
+    w = claims._exponent_windows(ds, 0)
+    c, sd, why, count = w["bulk"]
+    assert not why and c == pytest.approx(np.mean([-0.686, -0.794])) and count == " [2 of 5 seeds determined]"
+    assert claims._exponent_windows(ds, 0, fall_min=2.83)["bulk"][2].startswith("|F_z| falls only 1.93-2.59x")
+    v = claims.evaluate_one({"id": "e", "where": "Fig. 4", "claim": "c", "paper": -0.882,
+                             "test": {"method": "measure", "name": "exponents", "figures": ["f"], "tol": 0.05}},
+                            claims.Evidence({"f": ds}))
+    assert "bulk -0.740 +- 0.076 [2 of 5 seeds determined] (outside 0.076)" in v.note
+
+
 def test_no_window_determines_the_exponent_so_there_is_no_value():
     ev = claims.Evidence({"f": _profile_fig(-0.50, -0.60, fall_whole=1.3, fall_bulk=1.2, paper_c=-0.942)})
     v = claims.evaluate_one({"id": "e", "where": "Fig. 7", "claim": "c", "paper": -0.942,
@@ -276,9 +295,18 @@ def test_a_printed_curve_is_not_compared_with_an_undetermined_fit_of_ours():
     spec = {"figure": "f", "max_rms": 0.1}
     for fall, text in ((1.46, "against ours not determined (|F_z| falls only 1.46x over the whole stretch)"),
                        (3.0, "against ours 0.88, 288, -0.757")):
-        ev = claims.Evidence({"f": _fig({**base, "fall_whole": [fall]})})
+        ev = claims.Evidence({"f": _fig({**base, "fall_whole": [fall]}, {"load": 0.0125})})
         value, holds, _, note = claims.MEASURES["printed_curves"](ev, spec, "x")
         assert holds is False and value == pytest.approx(0.25) and text in note, note
+    assert "(f(0) = 0.012 against the load 0.0125)" in note          # 15.5 x 2010^-0.942
+    # another reading of the paper's numerics under which the printed curve describes the profile
+    fits = {**base, "fall_whole": [3.0]}
+    ev = claims.Evidence({"f": _fig(fits, {"load": 0.0125}),
+                          "g": _fig({**fits, "paper_rms_log_ratio": [0.08], "paper_rms_log_ratio_bulk": [0.07]},
+                                    {"load": 0.0125})})
+    value, holds, _, note = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
+    assert holds is None and "printed C (g): describes our profiles (worst rms 0.07)" in note
+    assert note.endswith("the verdict depends on the reading")
 
 
 def _law_fig(ratios, errs, has=None):

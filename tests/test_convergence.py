@@ -88,7 +88,8 @@ def test_a_long_verdict_is_shortened_for_the_figure_title_at_its_clauses_not_cut
     lines = _title_lines("convergence in $n_{ramp}$: ", ramp)
     text = " ".join(lines)
     assert len(lines) <= TITLE_LINES and "..." not in text
-    assert "F_transmitted: paired change +3.7 $\\pm$ 2.8 %; pitch: paired change +2.5 $\\pm$ 2.3 %" in text
+    assert ("F_transmitted: +3.7 $\\pm$ 2.8 % (95 % bound 9.7 % > 1 %); pitch: +2.5 $\\pm$ 2.3 % (95 % bound 7.5 % "
+            "> 1 %)") in text
     assert text.endswith("(full verdict: results/checks)")
     k_w = ("inconclusive: F_transmitted: differences do not shrink monotonically (no asymptotic range); L_z: finest "
            "differences below a tenth of the tolerance (converged); pitch: finest differences below a tenth of the "

@@ -24,7 +24,7 @@ from . import ensembles, regions
 from .errors import ConfigError
 from .fits import DEGENERATE_FALL, undetermined
 from .io import read_yaml
-from .measure import detached_lengths, force_at_links
+from .measure import HELIX_RUN, detached_lengths, force_at_links
 from .measure import half_reduction_length as half_reduction_length_of
 
 VERDICTS = ("reproduced", "reproduced under reading", "refuted", "inconclusive", "not testable")
@@ -517,18 +517,30 @@ def _panel_value(ds, var: str, i: int, ensemble: str | None = None) -> tuple[flo
 
 def _exponent_windows(ds, i: int, fall_min: float = DEGENERATE_FALL) -> dict[str, tuple[float, float, str]]:
     """c over the whole stretch and over the bulk of panel i: (value, nan without a fit; seed
-    s.d.; why the window does not determine c, empty if it does: |F_z| falls by less than
-    fall_min over it)."""
+    s.d.; why the window does not determine c, empty if it does: fits.undetermined at fall_min).
+    For a seed ensemble the value and s.d. are over the members whose own fit determines c, and
+    the window is undetermined only if none does (the text says how many do)."""
     out = {}
-    c_w, sd_w = _panel_value(ds, "fit_c", i, "fit_c")
-    why = undetermined(float(ds.fit_c.values[i]), float(ds.fall_whole.values[i]), fall_min)
-    out["whole"] = (c_w, sd_w, why and why + " over the whole stretch")
-    if int(ds.has_fit_bulk.values[i]) == 0:
-        out["bulk"] = (math.nan, 0.0, "no bulk helix")
-    else:
-        c_b, sd_b = _panel_value(ds, "fit_c_bulk", i, "fit_c_bulk")
-        why = undetermined(float(ds.fit_c_bulk.values[i]), float(ds.fall_bulk.values[i]), fall_min)
-        out["bulk"] = (c_b, sd_b, why and why + " over the bulk")
+    for name, var, has in (("whole", "fit_c", None), ("bulk", "fit_c_bulk", "has_fit_bulk")):
+        where = "the whole stretch" if name == "whole" else "the bulk"
+        if has and int(ds[has].values[i]) == 0:
+            out[name] = (math.nan, 0.0, "no bulk helix")
+            continue
+        fall_var = f"fall_{name}_member"
+        if fall_var in ds and f"{var}_member" in ds:
+            c_m, f_m = ds[f"{var}_member"].values[i], ds[fall_var].values[i]
+            has_m = ds["has_fit_member" if name == "whole" else "has_fit_bulk_member"].values[i] == 1
+            ok = np.array([h and not undetermined(c, f, fall_min) for c, f, h in zip(c_m, f_m, has_m)], dtype=bool)
+            if not ok.any():
+                out[name] = (float(ds[var].values[i]), 0.0, f"|F_z| falls only {f_m[has_m].min():.3g}-"
+                             f"{f_m[has_m].max():.3g}x over {where} of the seeds, or the fits reach their bound")
+                continue
+            count = "" if ok.sum() == has_m.sum() else f" [{int(ok.sum())} of {int(has_m.sum())} seeds determined]"
+            out[name] = (float(c_m[ok].mean()), float(c_m[ok].std(ddof=1)) if ok.sum() > 1 else 0.0, "", count)
+            continue
+        why = undetermined(float(ds[var].values[i]), float(ds[f"fall_{name}"].values[i]), fall_min)
+        c, sd = _panel_value(ds, var, i, var)
+        out[name] = (c, sd, why and f"{why} over {where}")
     return out
 
 
@@ -538,7 +550,7 @@ def _compare_exponent(windows, target: float, tol: float) -> tuple[bool | None, 
     undetermined is reported in the text, never as our value)."""
     oks, texts, worst = [], [], math.nan
     for name in ("whole", "bulk"):
-        c, sd, why = windows[name]
+        c, sd, why, *count = windows[name]
         if math.isfinite(c) and not why:
             worst = abs(c - target) if math.isnan(worst) else max(worst, abs(c - target))
         if why:
@@ -547,8 +559,8 @@ def _compare_exponent(windows, target: float, tol: float) -> tuple[bool | None, 
             continue
         t = max(tol, sd)
         oks.append(abs(c - target) <= t)
-        texts.append(f"{name} {c:.3f}" + (f" +- {sd:.2g}" if sd else "") + f" ({'within' if oks[-1] else 'outside'} "
-                     f"{t:.2g})")
+        texts.append(f"{name} {c:.3f}" + (f" +- {sd:.2g}" if sd else "") + "".join(count)
+                     + f" ({'within' if oks[-1] else 'outside'} {t:.2g})")
     return _two_windows(*oks), worst, ", ".join(texts)
 
 
@@ -574,6 +586,10 @@ def _exponents(ev, spec, claim, fall_min):
             ok, dev, text = _compare_exponent(_exponent_windows(ds, i, fall_min), target, tol)
             parts.append(ok)
             devs.append(dev)
+            f_printed = float(ds.paper_fit_fraction.values[i]) if "paper_fit_fraction" in ds else 0.0
+            printed_fall = 1.0 / f_printed if f_printed > 0 else math.inf
+            if printed_fall < fall_min:
+                text += f" (the printed fit itself spans a fall of only {printed_fall:.3g}x)"
             notes.append(f"{fig} {_panel_label(ds, i)} vs {target:g}: {text}")
     return _nanmax(devs), _combine(parts), \
         ", ".join(f + ":fit_c, fit_c_bulk, fall_whole, fall_bulk" for f in files), "; ".join(notes)
@@ -599,7 +615,7 @@ def _exponent_change(ev, spec, claim, fall_min):
     wb = _exponent_windows(b, b.sizes["panel"] - 1, fall_min)
     tol, oks, texts, changes = float(spec["tol"]), [], [], []
     for name in ("whole", "bulk"):
-        (ca, sa, why_a), (cb, sb, why_b) = wa[name], wb[name]
+        (ca, sa, why_a, *_), (cb, sb, why_b, *_) = wa[name], wb[name]
         change = abs(ca - cb) if math.isfinite(ca) and math.isfinite(cb) else math.nan
         text = f"{name}: c = {ca:.3f} against {cb:.3f}"
         if why_a or why_b:
@@ -651,9 +667,37 @@ def _power_law_quality(ev, spec, claim, fall_min):
 def printed_curves(ev, spec, claim):
     """The paper's printed fits A (l0' + s)^c against our profiles: the rms of ln(f_paper/|F_z|)
     over the whole stretch and over the bulk, within `max_rms` on both windows for every panel
-    (one finding per figure: the printed A, l0', c and the transmitted fractions are evidence)."""
-    ds = ev.dataset(spec["figure"], claim)
+    (one finding per figure: the printed A, l0', c and the transmitted fractions are evidence).
+    spec['readings'] (label -> figure, optional: read where the config builds it): the same
+    panels run under another reading of what the paper leaves open (its printed bending constant,
+    the loading path); a verdict that one of them changes is inconclusive, with each reading's
+    answer in the note."""
     tol = float(spec["max_rms"])
+    worst, holds, notes = _printed_curve(ev, spec["figure"], tol, claim)
+    files = [f"results/datasets/{spec['figure']}.nc"]
+    answers = []
+    for label, fig in (spec.get("readings") or {}).items():
+        if fig not in ev.datasets:           # optional: a config may not build that reading's runs
+            notes.append(f"{label}: not built by this config")
+            continue
+        w, h, _ = _printed_curve(ev, fig, tol, claim)
+        files.append(f"results/datasets/{fig}.nc")
+        answers.append((label, fig, w, h))
+    note = "; ".join(notes)
+    if answers:
+        note += "; under other readings: " + "; ".join(
+            f"{label} ({fig}): {'describes' if h else 'does not describe' if h is False else 'undecided for'} "
+            f"our profiles (worst rms {w:.2g})" for label, fig, w, h in answers)
+        if any(h != holds for *_, h in answers):
+            holds = None
+            note += "; the verdict depends on the reading"
+    return worst, holds, ", ".join(f + ":paper_rms_log_ratio, paper_rms_log_ratio_bulk" for f in files) + \
+        ", fit_A, fit_l0, fit_c, paper_fit_*", note
+
+
+def _printed_curve(ev, figure: str, tol: float, claim) -> tuple[float, bool | None, list[str]]:
+    """(worst rms over the bulk, verdict, a note per panel) of the printed fits of one figure."""
+    ds = ev.dataset(figure, claim)
     parts, notes, worst = [], [], 0.0
     for i in range(ds.sizes["panel"]):
         if int(ds.has_paper_fit.values[i]) == 0:
@@ -668,14 +712,14 @@ def printed_curves(ev, spec, claim):
         fit = (float(ds.fit_A.values[i]), float(ds.fit_l0.values[i]), float(ds.fit_c.values[i]))
         ours = f"ours not determined ({why} over the whole stretch)" if why else \
             f"ours {fit[0]:.3g}, {fit[1]:.3g}, {fit[2]:.3f}"
+        A, l0p, c = (float(ds[f"paper_fit_{k}"].values[i]) for k in ("A", "l0", "c"))
         notes.append(f"{_panel_label(ds, i)}: rms ln ratio {rw:.2g} (whole), {rb:.2g} (bulk); printed A = "
-                     f"{float(ds.paper_fit_A.values[i]):g}, l0' = {float(ds.paper_fit_l0.values[i]):g}, c = "
-                     f"{float(ds.paper_fit_c.values[i]):g} against {ours}; F(L)/F(0) printed "
+                     f"{A:g}, l0' = {l0p:g}, c = {c:g} (f(0) = {A * l0p ** c:.3g} against the load "
+                     f"{float(ds.attrs['load']):g}) against {ours}; F(L)/F(0) printed "
                      f"{float(ds.paper_fit_fraction.values[i]):.3g}, ours {frac:.3g}" + (f" +- {sd:.2g}" if sd else ""))
     if not parts:
-        raise ClaimError(f"claim {claim!r}: results/datasets/{spec['figure']}.nc has no printed fit")
-    return worst, _combine(parts), (f"results/datasets/{spec['figure']}.nc:paper_rms_log_ratio, "
-                                    "paper_rms_log_ratio_bulk, fit_A, fit_l0, fit_c, paper_fit_*"), "; ".join(notes)
+        raise ClaimError(f"claim {claim!r}: results/datasets/{figure}.nc has no printed fit")
+    return worst, _combine(parts), notes
 
 
 @measure
@@ -1017,13 +1061,13 @@ def boundary_wider(ev, spec, claim):
             b = np.array([read(d)[j] for _, d in m4])
             calls.append("wider" if a.min() > b.max() else ("narrower" if a.max() < b.min() else "overlapping"))
             parts.append(f"{name} {a.mean():.3g} R ({a.min():.3g}-{a.max():.3g}) against {b.mean():.3g} R "
-                         f"({b.min():.3g}-{b.max():.3g})")
+                         f"({b.min():.3g}-{b.max():.3g}), ratio {a.mean() / max(b.mean(), 1e-300):.2f}")
         ends.append(calls[0] if len(set(calls)) == 1 and calls[0] != "overlapping" else None)
         texts.append(f"at {end} {ends[-1] or 'undecided'}: " + ", ".join(parts))
     holds = True if all(e == "wider" for e in ends) else (False if "narrower" in ends else None)
     note = ("; ".join(texts) + f" (means and seed ranges over {len(m7)} and {len(m4)} seeds; "
-            "detached: to the first or from the last run of links on the wall; region: the tip and the lower "
-            "region of the force profile)")
+            f"detached: to the first or from the last run of {HELIX_RUN} or more links on the wall, shorter "
+            "clusters of contacts inside it not counted; region: the tip and the lower region of the force profile)")
     if holds is False and "wider" in ends:
         note = "refuted as stated, holds at " + ("the loaded end" if ends[0] == "wider" else "the support") + \
             " only: " + note

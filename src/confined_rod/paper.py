@@ -504,7 +504,7 @@ def finding_macros(verdicts: Iterable[Verdict], titles: Mapping[str, str], macro
 
 
 #: longest convergence verdict in the table (a paired ladder's lists every observable's numbers)
-STATUS_CHARS = 110
+STATUS_CHARS = 130
 SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
 
 

@@ -299,8 +299,10 @@ _Q = SCENE_PARAMETERS + [
     Quantity("shown_seed", r"\mathrm{seed}", "seed of the member whose profile and fit the panel shows", "1"),
     Quantity("fit_c_member", "c", "exponent of our fit to each ensemble member (0 where has_fit_member is 0)", "1"),
     Quantity("has_fit_member", "", "1 where the member has a wall-contact stretch that was fitted", "1"),
-    Quantity("fit_c_mean", r"\langle c\rangle", "ensemble mean of the fitted exponent (members with a fit)", "1"),
-    Quantity("fit_c_std", r"\sigma_c", "ensemble standard deviation of the fitted exponent (members with a fit)",
+    Quantity("fit_c_mean", r"\langle c\rangle", "ensemble mean of the fitted exponent (members whose fit determines "
+             "it: fits.undetermined)", "1"),
+    Quantity("fit_c_std", r"\sigma_c", "ensemble standard deviation of the fitted exponent (members whose fit "
+             "determines it)",
              "1"),
     Quantity("F_abs_min", r"\min|F_z(s)|", "smallest |F_z(s)| over the ensemble's members at each joint", "EI R-2"),
     Quantity("F_abs_max", r"\max|F_z(s)|", "largest |F_z(s)| over the ensemble's members at each joint", "EI R-2"),
@@ -352,8 +354,14 @@ _Q = SCENE_PARAMETERS + [
     Quantity("fit_c_bulk_member", "c_{bulk}", "bulk-window exponent of each ensemble member (0 where "
              "has_fit_bulk_member is 0)", "1"),
     Quantity("has_fit_bulk_member", "", "1 where the member has a bulk-window fit", "1"),
-    Quantity("fit_c_bulk_mean", r"\langle c_{bulk}\rangle", "ensemble mean of the bulk-window exponent", "1"),
-    Quantity("fit_c_bulk_std", r"\sigma_{c,bulk}", "ensemble standard deviation of the bulk-window exponent", "1"),
+    Quantity("fit_c_bulk_mean", r"\langle c_{bulk}\rangle", "ensemble mean of the bulk-window exponent (members "
+             "whose fit determines it)", "1"),
+    Quantity("fit_c_bulk_std", r"\sigma_{c,bulk}", "ensemble standard deviation of the bulk-window exponent "
+             "(members whose fit determines it)", "1"),
+    Quantity("fall_whole_member", r"F(s_h)/F(s_e)", "factor by which |F_z| falls over the whole wall-contact "
+             "stretch, each ensemble member", "1"),
+    Quantity("fall_bulk_member", r"F(s_b)/F(s_l)", "factor by which |F_z| falls over the bulk helix, each "
+             "ensemble member (0 without a bulk)", "1"),
     Quantity("tip_length_member", "s_b", "tip-region length of each ensemble member", "R"),
     Quantity("lower_length_member", "L - s_l", "lower-region length of each ensemble member", "R"),
     # protocol comparison (figure kind protocol_comparison)

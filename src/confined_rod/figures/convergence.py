@@ -117,7 +117,8 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
     if n > 1 and fig_cfg.get("paired"):
         what = "a quasi-static load ramp of n_ramp steps" if p == "ramp_steps" else p
         return (f"Convergence in the path to equilibrium: {what}, {p} = {vals} (L/R = {sc.L:g}, load = "
-                f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds: ensemble means of the "
+                f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds (a seed not at equilibrium "
+                f"at some rung is left out at every rung and named in the verdict): ensemble means of the "
                 f"transmitted force, L_z and {PITCH_PANEL} against the refinement variable (error bars two standard "
                 f"errors), grey dots and lines the single seeds, red circles the seeds that end in another final "
                 f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band "
@@ -414,12 +415,19 @@ TITLE_WIDTH, TITLE_LINES = 95, 2
 
 
 def _first_clause(part: str) -> str:
-    """'F_transmitted: paired by seed: 256: paired change +3.7 +- 2.8 % (s.e., ...), ...' ->
-    'F_transmitted: paired change +3.7 +- 2.8 %': the observable and the last label of its
-    headline, cut before the first parenthesis or comma."""
+    """'F_transmitted: paired by seed: 256: paired change +3.7 +- 2.8 % (s.e., 16 seeds, 95 % bound
+    9.7 %), tolerance 1 %: undecided, about 69 seeds would decide; ...' -> 'F_transmitted: paired
+    +3.7 +- 2.8 % (95 % bound 9.7 % > 1 %)': the observable and the last label of its headline,
+    cut before the first parenthesis or comma; for an undecided ensemble its mean change and the
+    95 % bound that exceeds the tolerance."""
     name, sep, rest = part.partition(": ") if part.split(": ")[0] in OBSERVABLES else ("", "", part)
-    rest = re.split(r" \(|, ", rest, maxsplit=1)[0]
-    return name + sep + rest.rsplit(": ", 1)[-1]
+    head = re.split(r" \(|, ", rest, maxsplit=1)[0].rsplit(": ", 1)[-1]
+    # why an ensemble does not decide: its 95 % bound against the tolerance, and the seeds it would take
+    bound = re.search(r"95 % bound ([^)]*?%)\), tolerance ([^:]*?%): undecided", rest)
+    change = re.search(r"[+-]?[\d.]+ \+- [\d.]+ %", head)
+    if bound and change:
+        head = f"{change[0]} (95 % bound {bound[1]} > {bound[2]})"
+    return name + sep + head
 
 
 def brief_status(status: str) -> str:

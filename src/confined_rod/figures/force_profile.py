@@ -24,9 +24,9 @@ import xarray as xr
 from .. import ensembles, regions, theory
 from .. import plotting as P
 from ..errors import ConfigError
-from ..fits import PARAMS, FitError, fit_power_law, power_law, undetermined
+from ..fits import DEGENERATE_FALL, PARAMS, FitError, fit_power_law, power_law, undetermined
 from ..io import variable
-from ..measure import contact_range, euler_ratio, n_turns
+from ..measure import HELIX_RUN, contact_range, euler_ratio, n_turns
 from ..quantities import attrs, error_attrs, label
 from ._common import check_scene_keys, same_except
 
@@ -92,8 +92,8 @@ def caption(figure, fig_cfg, built) -> str:
     body += (" Black: simulation; red: fit A (l0' + s)^c over the wall-contact stretch (grey band; "
              f"trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; values and standard errors in the "
              "panel and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
-             "from the start of the helix on the wall s_h (the first run of links on the wall; a detached tip's "
-             "isolated contacts are not part of it); grey dotted: the same with the paper's 2EI.")
+             f"from the start of the helix on the wall s_h (the first run of at least {HELIX_RUN} links on the wall; a "
+             "detached tip's isolated contacts are not part of it); grey dotted: the same with the paper's 2EI.")
     body += (" Lower row: 1/|F_z| against s, with the three regions of the rod found from the data "
              "(confined_rod.regions): the tip at the loaded end (orange), the bulk helix where the wall friction is "
              "axial and at its Coulomb limit (green), and the lower region where it is stuck or azimuthal (violet). "
@@ -168,6 +168,11 @@ def _bulk_fit(d: xr.Dataset, a: regions.Analysis):
     return f, fall_whole, fall_bulk
 
 
+def determined(c: np.ndarray, fall: np.ndarray, has: np.ndarray, fall_min: float = DEGENERATE_FALL) -> np.ndarray:
+    """Where a member's fit (has == 1) determines its exponent c (fits.undetermined)."""
+    return np.vectorize(lambda ci, fi, hi: bool(hi) and not undetermined(ci, fi, fall_min), otypes=[bool])(c, fall, has)
+
+
 def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -> xr.Dataset:
     """The ensemble of each panel: members' transmitted fraction, exponent and final state,
     their statistics, and the range of the profiles; the panel's transmitted force and
@@ -192,21 +197,23 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     for members in panels.values():
         for m in members:
             a = regions.analyse(sims[m])
-            fb = _bulk_fit(sims[m], a)[0]
+            fb, fall_w, fall_b = _bulk_fit(sims[m], a)
             per_member[m] = (a.bulk.rate if a.bulk else np.nan, fb.c if fb else np.nan,
-                             a.regions.tip_length, a.regions.lower_length)
-    grid = np.zeros(has.shape + (4,))
+                             a.regions.tip_length, a.regions.lower_length, fall_w, fall_b)
+    grid = np.zeros(has.shape + (6,))
     for i, members in enumerate(panels.values()):
         for j, m in enumerate(members):
             grid[i, j] = per_member[m]
-    rate, cb, tip_len, low_len = (grid[..., k] for k in range(4))
+    rate, cb, tip_len, low_len, fall_w, fall_b = (grid[..., k] for k in range(6))
     has_rate = (np.isfinite(rate) & (has == 1)).astype(np.int8)
     rate = np.where(has_rate == 1, rate, 0.0)
     has_cb = (np.isfinite(cb) & (has == 1)).astype(np.int8)
     cb = np.where(has_cb == 1, cb, 0.0)
     c = np.where(has_fit == 1, c, 0.0)
     st = [ensembles.stats(frac[i, has[i] == 1]) for i in range(len(panels))]
-    cst = [ensembles.stats(c[i, has_fit[i] == 1]) if has_fit[i].any() else None for i in range(len(panels))]
+    # the statistics of an exponent are over the members whose fit determines it
+    sure = determined(c, fall_w, has_fit)
+    cst = [ensembles.stats(c[i, sure[i]]) if sure[i].any() else None for i in range(len(panels))]
     profiles = [np.abs(np.stack([sims[m]["F_z"].values for m in members])) for members in panels.values()]
 
     P = ("panel",)
@@ -236,8 +243,10 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     ds["has_fit_bulk_member"] = variable(PM, has_cb, "has_fit_bulk_member")
     ds["tip_length_member"] = variable(PM, tip_len, "tip_length_member")
     ds["lower_length_member"] = variable(PM, low_len, "lower_length_member")
-    for name, vals, ok in (("bulk_decay_rate", rate, has_rate), ("fit_c_bulk", cb, has_cb)):
-        st_ = [ensembles.stats(vals[i, ok[i] == 1]) if ok[i].any() else None for i in range(len(panels))]
+    ds["fall_whole_member"] = variable(PM, np.where(has == 1, fall_w, 0.0), "fall_whole_member")
+    ds["fall_bulk_member"] = variable(PM, np.where(has_cb == 1, fall_b, 0.0), "fall_bulk_member")
+    for name, vals, ok in (("bulk_decay_rate", rate, has_rate == 1), ("fit_c_bulk", cb, determined(cb, fall_b, has_cb))):
+        st_ = [ensembles.stats(vals[i, ok[i]]) if ok[i].any() else None for i in range(len(panels))]
         ds[f"{name}_mean"] = variable(P, [x.mean if x else 0.0 for x in st_], f"{name}_mean")
         ds[f"{name}_std"] = variable(P, [x.std if x else 0.0 for x in st_], f"{name}_std")
     ds["member_class"] = variable(PM, cls.astype(np.int8), "member_class")
@@ -378,7 +387,8 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"panel_parameter": p or "none", "fit_trim": trim,
                      "fit_method": "scipy.optimize.curve_fit, relative residuals (sigma = |F_z|), A > 0, l0' > 0",
-                     "fit_window": "joints between the first and the last link touching the wall, trimmed by fit_trim",
+                     "fit_window": "joints of the wall-contact stretch (from the first to the last run of at least "
+                                   f"{HELIX_RUN} links on the wall: measure.contact_range), trimmed by fit_trim",
                      "regions": (f"confined_rod.regions: bulk = longest stretch where the axial friction utilisation, "
                                  f"averaged over {regions.WINDOW_R:g} R, is >= {regions.Q_BULK:g}; tip before it, "
                                  "lower region after it; decay rates are slopes of 1/|F_z| against s, uncertainty "
@@ -463,6 +473,14 @@ def _math(text: str) -> str:
     return re.sub(r"(?<![\w$])-(\d+(\.\d+)?)", r"$-\1$", text)
 
 
+def _determined_seeds(d: xr.Dataset) -> tuple[int, int]:
+    """(members whose fit determines c, members with a fit) of one panel of an ensemble."""
+    has = d["has_fit_member"].values
+    if "fall_whole_member" not in d:
+        return int(has.sum()), int(has.sum())
+    return int(determined(d["fit_c_member"].values, d["fall_whole_member"].values, has).sum()), int(has.sum())
+
+
 def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
     """Our fit and transmitted fraction (red) and the paper's printed numbers (orange) in the
     corner of the right half that the curves leave free; a wide single panel holds the two
@@ -475,9 +493,11 @@ def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
     va, y0, step = ("top", 0.97, -0.23) if corner == "top" else ("bottom", 0.03, 0.23)
     why = undetermined(float(d.fit_c), float(d.fall_whole))
     lines = [f"$c = {float(d.fit_c):.3f}$"] if not why else ["$c$ not determined", "(" + _math(why) + ")"]
-    if seeds and not why:
-        lines.append(f"(seeds ${float(d.fit_c_mean):.2f} \\pm {float(d.fit_c_std):.2f}$)")
     if seeds:
+        k, n = _determined_seeds(d)
+        lines.append("(no seed determines $c$)" if k == 0 else
+                     f"(seeds ${float(d.fit_c_mean):.2f} \\pm {float(d.fit_c_std):.2f}$"
+                     + ("" if k == n else f", {k} of {n}") + ")")
         lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f} \\pm {float(d.fraction_std):.3f}$")
     else:
         lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f}$")
@@ -514,7 +534,8 @@ def plot(ds: xr.Dataset):
                             label=f"range over {int(d.n_seeds)} seeds")
         ax.plot(s, d["F_abs"], lw=2.2, **P.SIM,
                 label="simulation" if "shown_seed" not in ds else "simulation, lowest seed")
-        ax.plot(s[w], d["F_fit"].values[w], **P.FIT, label=r"our fit $A\,(l_0'+s)^c$")
+        if not undetermined(float(d.fit_c), float(d.fall_whole)):     # a curve of degenerate parameters: none
+            ax.plot(s[w], d["F_fit"].values[w], **P.FIT, label=r"our fit $A\,(l_0'+s)^c$")
         ax.plot(s, d["F_simple"], **P.MODEL, label=r"simple model, $K = RF^2/(4EI)$")
         ax.plot(s, d["F_simple_paper"], **P.PAPER, label=r"paper's form, $K = RF^2/(2EI)$")
         if int(d.has_paper_fit):
