@@ -89,7 +89,8 @@ def caption(figure, fig_cfg, built) -> str:
                                          for i, s in enumerate(built.values())) + "."
     else:
         body += f", k_fr = {sc.k_fr:g}."
-    body += (" Black: simulation; red: fit A (l0' + s)^c over the wall-contact stretch (grey band; "
+    body += (" Black: simulation; red: fit A (l0' + s)^c over the wall-contact stretch (not drawn, and c 'not "
+             "determined', where |F_z| falls by less than 2x over it or c reaches the fit's bound; grey band; "
              f"trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; values and standard errors in the "
              "panel and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
              f"from the start of the helix on the wall s_h (the first run of at least {HELIX_RUN} links on the wall; a "
@@ -495,7 +496,7 @@ def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
     lines = [f"$c = {float(d.fit_c):.3f}$"] if not why else ["$c$ not determined", "(" + _math(why) + ")"]
     if seeds:
         k, n = _determined_seeds(d)
-        lines.append("(no seed determines $c$)" if k == 0 else
+        lines.append("(no seed determines $c$)" if k == 0 else f"(1 of {n} seeds determines $c$)" if k == 1 < n else
                      f"(seeds ${float(d.fit_c_mean):.2f} \\pm {float(d.fit_c_std):.2f}$"
                      + ("" if k == n else f", {k} of {n}") + ")")
         lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f} \\pm {float(d.fraction_std):.3f}$")
