@@ -307,6 +307,11 @@ def test_a_printed_curve_is_not_compared_with_an_undetermined_fit_of_ours():
     value, holds, _, note = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
     assert holds is None and "printed C (g): describes our profiles (worst rms 0.07)" in note
     assert note.endswith("the verdict depends on the reading")
+    # a reading this config does not build, or builds without the printed fits, is skipped and said so
+    ev.datasets["h"] = _fig({**fits, "has_paper_fit": [0]}, {"load": 0.0125})
+    v2, holds, _, note = claims.MEASURES["printed_curves"](
+        ev, {**spec, "readings": {"absent": "nowhere", "unfitted": "h"}}, "x")
+    assert holds is False and "absent: not built by this config" in note and "unfitted (h): no printed fit" in note
 
 
 def _law_fig(ratios, errs, has=None):

@@ -677,8 +677,10 @@ def printed_curves(ev, spec, claim):
     files = [f"results/datasets/{spec['figure']}.nc"]
     answers = []
     for label, fig in (spec.get("readings") or {}).items():
-        if fig not in ev.datasets:           # optional: a config may not build that reading's runs
-            notes.append(f"{label}: not built by this config")
+        if fig not in ev.datasets or not int(ev.datasets[fig].has_paper_fit.values.sum()):
+            # optional: a config may not build that reading's runs, or not with the printed fits
+            notes.append(f"{label}: not built by this config" if fig not in ev.datasets else
+                         f"{label} ({fig}): no printed fit in this config")
             continue
         w, h, _ = _printed_curve(ev, fig, tol, claim)
         files.append(f"results/datasets/{fig}.nc")
