@@ -299,14 +299,20 @@ def test_a_printed_curve_is_not_compared_with_an_undetermined_fit_of_ours():
         value, holds, _, note = claims.MEASURES["printed_curves"](ev, spec, "x")
         assert holds is False and value == pytest.approx(0.25) and text in note, note
     assert "(f(0) = 0.012 against the load 0.0125)" in note          # 15.5 x 2010^-0.942
-    # another reading of the paper's numerics under which the printed curve describes the profile
+    # another reading of the paper's numerics under which the printed curve describes the profile:
+    # within 0.1 in rms and in its transmitted fraction (0.87 against 0.85)
     fits = {**base, "fall_whole": [3.0]}
+    close = {**fits, "paper_rms_log_ratio": [0.08], "paper_rms_log_ratio_bulk": [0.07]}
     ev = claims.Evidence({"f": _fig(fits, {"load": 0.0125}),
-                          "g": _fig({**fits, "paper_rms_log_ratio": [0.08], "paper_rms_log_ratio_bulk": [0.07]},
-                                    {"load": 0.0125})})
+                          "g": _fig({**close, "transmitted_fraction": [0.85]}, {"load": 0.0125})})
     value, holds, _, note = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
-    assert holds is None and "printed C (g): describes our profiles (worst rms 0.07)" in note
+    assert holds is None and "printed C (g): describes our profiles ((a) rms 0.08, fraction 0.85)" in note
     assert note.endswith("the verdict depends on the reading")
+    # close in rms but not in the transmitted fraction (0.87 against 0.70, Fig 7 as printed): a flat
+    # profile would pass the rms where the profile falls little; it does not describe it
+    ev.datasets["g"] = _fig({**close, "transmitted_fraction": [0.70]}, {"load": 0.0125})
+    value, holds, _, note = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
+    assert holds is False and "printed C (g): does not describe our profiles ((a) rms 0.08, fraction 0.7)" in note
     # a reading this config does not build, or builds without the printed fits, is skipped and said so
     ev.datasets["h"] = _fig({**fits, "has_paper_fit": [0]}, {"load": 0.0125})
     v2, holds, _, note = claims.MEASURES["printed_curves"](

@@ -117,8 +117,9 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
     if n > 1 and fig_cfg.get("paired"):
         what = "a quasi-static load ramp of n_ramp steps" if p == "ramp_steps" else p
         return (f"Convergence in the path to equilibrium: {what}, {p} = {vals} (L/R = {sc.L:g}, load = "
-                f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds (a seed not at equilibrium "
-                f"at some rung is left out at every rung and named in the verdict): ensemble means of the "
+                f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds (a seed not at a stable "
+                f"equilibrium at some rung, capped or on a saddle, is left out at every rung and named in the "
+                f"verdict): ensemble means of the "
                 f"transmitted force, L_z and {PITCH_PANEL} against the refinement variable (error bars two standard "
                 f"errors), grey dots and lines the single seeds, red circles the seeds that end in another final "
                 f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band "
