@@ -246,7 +246,8 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     ds["lower_length_member"] = variable(PM, low_len, "lower_length_member")
     ds["fall_whole_member"] = variable(PM, np.where(has == 1, fall_w, 0.0), "fall_whole_member")
     ds["fall_bulk_member"] = variable(PM, np.where(has_cb == 1, fall_b, 0.0), "fall_bulk_member")
-    for name, vals, ok in (("bulk_decay_rate", rate, has_rate == 1), ("fit_c_bulk", cb, determined(cb, fall_b, has_cb))):
+    sure_bulk = determined(cb, fall_b, has_cb)
+    for name, vals, ok in (("bulk_decay_rate", rate, has_rate == 1), ("fit_c_bulk", cb, sure_bulk)):
         st_ = [ensembles.stats(vals[i, ok[i]]) if ok[i].any() else None for i in range(len(panels))]
         ds[f"{name}_mean"] = variable(P, [x.mean if x else 0.0 for x in st_], f"{name}_mean")
         ds[f"{name}_std"] = variable(P, [x.std if x else 0.0 for x in st_], f"{name}_std")
