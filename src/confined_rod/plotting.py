@@ -151,6 +151,18 @@ def params_text(ds: xr.Dataset, keys) -> str:
     return ", ".join(param_text(k, float(ds.attrs[k])) for k in keys if k in ds.attrs)
 
 
+def legend_entries(axes) -> tuple[list, list[str]]:
+    """(handles, labels) of every axis, each label once, in the order first drawn: one legend
+    for panels that share some curves (a curve may be in some panels only)."""
+    handles, labels = [], []
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    return handles, labels
+
+
 def bottom_legend(fig, ax, bottom: float = 0.07, ncol: int | None = None) -> None:
     """One legend for all panels, below them."""
     handles, labels = ax.get_legend_handles_labels()

@@ -261,12 +261,7 @@ def plot(ds: xr.Dataset):
     cx.set_ylabel(r"threshold $\times\ R^2/EI$")
     cx.set_title("(e) against the free span", fontsize=8.5, loc="left")
     # one legend for (d) and (e), below them: inside the panels it covered their points
-    handles, labels = [], []
-    for ax in (bx, cx):
-        for h, lab in zip(*ax.get_legend_handles_labels()):
-            if lab not in labels:
-                handles.append(h)
-                labels.append(lab)
+    handles, labels = P.legend_entries((bx, cx))
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=P.SMALL, bbox_to_anchor=(0.5, 0.0),
                columnspacing=1.2, handletextpad=0.4)
     return fig

@@ -559,12 +559,7 @@ def plot(ds: xr.Dataset):
     if ds.attrs.get("bending_constant") == "paper":
         head += r"; AS PRINTED: $C = EI/l_0^2$"
     fig.suptitle(head, fontsize=9)
-    handles, labels = [], []
-    for ax in list(axes[0]) + (list(all_axes[1]) if local else []):  # the paper's curve may be in some panels only
-        for h, lab in zip(*ax.get_legend_handles_labels()):
-            if lab not in labels:
-                handles.append(h)
-                labels.append(lab)
+    handles, labels = P.legend_entries(list(axes[0]) + (list(all_axes[1]) if local else []))
     ncol = min(len(labels), 4 if n > 1 else 2)
     fig.legend(handles, labels, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, -0.01))
     legend_rows = -(-len(labels) // ncol)

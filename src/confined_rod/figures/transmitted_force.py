@@ -226,12 +226,7 @@ def plot(ds: xr.Dataset):
     bx.set_xlim(ax.get_xlim())       # the same lengths as (a): the short rods without a bulk have no point
     P.plain_log_ticks(bx.xaxis)
     # one legend for both panels, below them: inside (a) it covered the model curves
-    handles, labels = [], []
-    for a in (ax, bx):
-        for h, lab in zip(*a.get_legend_handles_labels()):
-            if lab not in labels:
-                handles.append(h)
-                labels.append(lab)
+    handles, labels = P.legend_entries((ax, bx))
     fig.legend(handles, labels, loc="lower center", ncol=2, fontsize=7.5, bbox_to_anchor=(0.5, 0.0))
     rows = -(-len(labels) // 2)
     fig.tight_layout(rect=(0, (0.16 * rows + 0.08) / fig.get_figheight(), 1, 1))
