@@ -22,7 +22,7 @@ import xarray as xr
 
 from . import ensembles, regions
 from .errors import ConfigError
-from .fits import DEGENERATE_FALL, undetermined
+from .fits import DEGENERATE_FALL, determined, undetermined
 from .io import read_yaml
 from .measure import HELIX_RUN, detached_lengths, force_at_links
 from .measure import half_reduction_length as half_reduction_length_of
@@ -530,7 +530,7 @@ def _exponent_windows(ds, i: int, fall_min: float = DEGENERATE_FALL) -> dict[str
         if fall_var in ds and f"{var}_member" in ds:
             c_m, f_m = ds[f"{var}_member"].values[i], ds[fall_var].values[i]
             has_m = ds["has_fit_member" if name == "whole" else "has_fit_bulk_member"].values[i] == 1
-            ok = np.array([h and not undetermined(c, f, fall_min) for c, f, h in zip(c_m, f_m, has_m)], dtype=bool)
+            ok = determined(c_m, f_m, has_m, fall_min)
             if not ok.any():
                 out[name] = (float(ds[var].values[i]), 0.0, f"|F_z| falls only {f_m[has_m].min():.3g}-"
                              f"{f_m[has_m].max():.3g}x over {where} of the seeds, or the fits reach their bound")

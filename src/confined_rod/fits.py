@@ -36,6 +36,12 @@ def undetermined(c: float, fall: float, fall_min: float = DEGENERATE_FALL) -> st
     return ""
 
 
+def determined(c: np.ndarray, fall: np.ndarray, has: np.ndarray, fall_min: float = DEGENERATE_FALL) -> np.ndarray:
+    """Where a fit exists (has == 1) and determines its exponent c (undetermined), elementwise:
+    the members of a seed ensemble whose exponents its statistics may use."""
+    return np.vectorize(lambda ci, fi, hi: bool(hi) and not undetermined(ci, fi, fall_min), otypes=[bool])(c, fall, has)
+
+
 class FitError(RuntimeError):
     """A fit that cannot be done (too few points, no convergence)."""
 

@@ -24,7 +24,7 @@ import xarray as xr
 from .. import ensembles, regions, theory
 from .. import plotting as P
 from ..errors import ConfigError
-from ..fits import DEGENERATE_FALL, PARAMS, FitError, fit_power_law, power_law, undetermined
+from ..fits import PARAMS, FitError, determined, fit_power_law, power_law, undetermined
 from ..io import variable
 from ..measure import HELIX_RUN, contact_range, euler_ratio, n_turns
 from ..quantities import attrs, error_attrs, label
@@ -167,11 +167,6 @@ def _bulk_fit(d: xr.Dataset, a: regions.Analysis):
     except FitError:
         f = None
     return f, fall_whole, fall_bulk
-
-
-def determined(c: np.ndarray, fall: np.ndarray, has: np.ndarray, fall_min: float = DEGENERATE_FALL) -> np.ndarray:
-    """Where a member's fit (has == 1) determines its exponent c (fits.undetermined)."""
-    return np.vectorize(lambda ci, fi, hi: bool(hi) and not undetermined(ci, fi, fall_min), otypes=[bool])(c, fall, has)
 
 
 def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -> xr.Dataset:
