@@ -36,10 +36,11 @@ def one(L: float, seed: int, ramp_steps: int = 0) -> dict:
     import xarray as xr
 
     import confined_rod
-    from confined_rod import Scene, ensembles
-    from confined_rod import observables as obs
-    from confined_rod.solvers.base import run_protocol
-    from confined_rod.solvers.implicit import ImplicitStepper
+    from confined_rod import Scene
+    from confined_rod.analysis import ensembles
+    from confined_rod.sim import observables as obs
+    from confined_rod.sim.solvers.base import run_protocol
+    from confined_rod.sim.solvers.implicit import ImplicitStepper
 
     protocol = dict(protocol="ramp", ramp_steps=ramp_steps) if ramp_steps else {}
     sc = Scene(L=L, seed=seed, name=f"ab/L{L:g}-s{seed}", **PUBLICATION, **protocol)

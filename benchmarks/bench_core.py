@@ -27,8 +27,8 @@ import numpy as np  # noqa: E402
 
 from confined_rod import Scene, simulate  # noqa: E402
 from confined_rod.io import provenance  # noqa: E402
-from confined_rod.model import kernels as K  # noqa: E402
-from confined_rod.model.forces import Workspace  # noqa: E402
+from confined_rod.sim.model import kernels as K  # noqa: E402
+from confined_rod.sim.model.forces import Workspace  # noqa: E402
 
 
 def helical_state(scene: Scene):

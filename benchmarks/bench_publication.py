@@ -44,11 +44,11 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from confined_rod import Scene  # noqa: E402
-from confined_rod import ensembles  # noqa: E402
-from confined_rod import observables as obs  # noqa: E402
+from confined_rod.analysis import ensembles  # noqa: E402
 from confined_rod.io import provenance  # noqa: E402
-from confined_rod.solvers.base import run_protocol  # noqa: E402
-from confined_rod.solvers.implicit import ImplicitStepper  # noqa: E402
+from confined_rod.sim import observables as obs  # noqa: E402
+from confined_rod.sim.solvers.base import run_protocol  # noqa: E402
+from confined_rod.sim.solvers.implicit import ImplicitStepper  # noqa: E402
 
 PUBLICATION = dict(load=0.25, k_fr=0.8, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5)
 SETTINGS = {  # scene parameters, stepper options

@@ -64,11 +64,11 @@ import numpy as np  # noqa: E402
 from scipy.linalg import solveh_banded  # noqa: E402
 
 from confined_rod import Scene, simulate  # noqa: E402
-from confined_rod import observables as obs  # noqa: E402
 from confined_rod.io import provenance  # noqa: E402
-from confined_rod.solvers import implicit_kernels as IK  # noqa: E402
-from confined_rod.solvers.base import RunState, run_protocol  # noqa: E402
-from confined_rod.solvers.implicit import ImplicitStepper  # noqa: E402
+from confined_rod.sim import observables as obs  # noqa: E402
+from confined_rod.sim.solvers import implicit_kernels as IK  # noqa: E402
+from confined_rod.sim.solvers.base import RunState, run_protocol  # noqa: E402
+from confined_rod.sim.solvers.implicit import ImplicitStepper  # noqa: E402
 
 
 class WallCap(Exception):

@@ -3,7 +3,7 @@ benchmarks/results/startup.json.
 
 A workflow job that runs one scene pays the interpreter, the imports (xarray, numba, the
 package), loading numba's cached kernels and the dataset writing, once per scene; a batch
-(rule batch, confined_rod.runs.run_batch) pays the start-up once for all its members. Setup: a
+(rule batch, confined_rod.sim.runs.run_batch) pays the start-up once for all its members. Setup: a
 seed ensemble of the publication numerics (Fig 6's small rods: L/R = 20, 40, 80, seeds 0-3 each,
 l0 = 0.5 R, k_ph = 1e4, k_w = 1e3, tol 1e-5, load 0.25, k_fr = 0.8), one core. In the same run and
 interleaved, --repeats times:
@@ -44,7 +44,7 @@ ENV = {**os.environ, "NUMBA_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
 BATCH = """
 import json, sys
 sys.path.insert(0, {src!r})
-from confined_rod.runs import run_batch
+from confined_rod.sim.runs import run_batch
 members = json.loads({members!r})
 run_batch("simulate", members, {outputs!r}, {manifest!r})
 """
@@ -87,7 +87,7 @@ def run_batched(tmp: Path) -> tuple[float, float]:
 def import_times() -> dict[str, float]:
     """Seconds to import each module in a fresh interpreter (median of 3), and python alone."""
     out = {}
-    for mod in ("", "numpy", "xarray", "numba", "confined_rod.simulation", "confined_rod.runs"):
+    for mod in ("", "numpy", "xarray", "numba", "confined_rod.sim.simulation", "confined_rod.sim.runs"):
         stmt = f"import {mod}" if mod else "pass"
         ts = []
         for _ in range(3):

@@ -1,5 +1,5 @@
 """Batches: the small scenes of a figure run in one process, each scene still its own dataset,
-bitwise the one a run of that scene alone writes (confined_rod.runs, pipeline.batches)."""
+bitwise the one a run of that scene alone writes (confined_rod.sim.runs, pipeline.batches)."""
 import json
 import os
 import subprocess
@@ -12,7 +12,7 @@ import xarray as xr
 import yaml
 
 from confined_rod import pipeline
-from confined_rod.runs import run_batch, run_one
+from confined_rod.sim.runs import run_batch, run_one
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMING = {"wall_time"}

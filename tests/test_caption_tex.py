@@ -15,7 +15,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from confined_rod import paper, pipeline
+from confined_rod import pipeline
+from confined_rod.claims import manuscript as paper
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = [ROOT / "config" / "config.yaml", ROOT / "config" / "ci.yaml"]
@@ -108,7 +109,7 @@ CASES = [
     ("protocol planar_then_3d", r"protocol \texttt{planar\_then\_3d}"),
     ("in fig8_escape", r"in \texttt{fig8\_escape}"),
     ("(docs/model.md)", r"(\texttt{docs/model.md})"),
-    ("(confined_rod.regions).", r"(\texttt{confined\_rod.regions})."),
+    ("(confined_rod.analysis.regions).", r"(\texttt{confined\_rod.analysis.regions})."),
     ("d(1/|F_z|)/ds = k_fr R/(4EI)", r"$\mathrm{d}(1/|F_{z}|)/\mathrm{d}s = k_{\mathrm{fr}}\,R/(4EI)$"),
     ("protocol 'straight'", "protocol `straight'"),
     ('"word"', "``word''"),

@@ -10,7 +10,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod import claims, derivations, paper, pipeline
+from confined_rod import pipeline
+from confined_rod.claims import derivations
+from confined_rod.claims import manuscript as paper
+from confined_rod.claims import verdicts as claims
 from confined_rod.errors import ConfigError
 
 from . import shapes

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from confined_rod import ensembles
+from confined_rod.analysis import ensembles
 
 from . import shapes
 

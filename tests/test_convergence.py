@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod.figures import convergence as studies
-from confined_rod.measure import bulk_pitch
+from confined_rod.analysis.figures import convergence as studies
+from confined_rod.analysis.measure import bulk_pitch
 
 
 def fake_sim(value, F, L_z=10.0, turns=2.0, param="l0"):
@@ -79,7 +79,7 @@ def test_bulk_pitch_of_a_helix():
 
 
 def test_a_long_verdict_is_shortened_for_the_figure_title_at_its_clauses_not_cut_mid_number():
-    from confined_rod.figures.convergence import TITLE_LINES, _title_lines
+    from confined_rod.analysis.figures.convergence import TITLE_LINES, _title_lines
     ramp = ("inconclusive: F_transmitted: paired by seed: 256: paired change +3.7 +- 2.8 % (s.e., 16 seeds, 95 % "
             "bound 9.7 %), tolerance 1 %: undecided, about 69 seeds would decide; over the 14 seeds that keep their "
             "final state -0.36 +- 0.22 % (largest 1.8 %); 2 of 16 seeds changed their final state: seed 5 +37 %; "

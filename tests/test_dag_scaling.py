@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 COUNTER = """
 import atexit, json, os, sys
-from confined_rod import scenes
+from confined_rod.sim import scenes
 calls = [0]
 orig = scenes.Scene.__post_init__
 def counted(self):
@@ -59,9 +59,10 @@ def test_the_canonical_index_stamp_does_not_grow_with_the_scenes():
     computed per lookup: it must not hold the scenes' text (that made a DAG build O(scenes^2),
     24 s of the full map's dry run), only per-figure sizes and identities."""
     from confined_rod import pipeline
+    from confined_rod.pipeline import configs
 
     small, large = _config(8), _config(800)
-    assert len(repr(pipeline._config_stamp(large))) <= len(repr(pipeline._config_stamp(small))) + 4  # the count's digits
+    assert len(repr(configs._config_stamp(large))) <= len(repr(configs._config_stamp(small))) + 4  # the count's digits
     # and a change that adds scenes is seen: the index is rebuilt
     assert pipeline.canonical_scene(small, "fig6_FonL", "L17") == ("fig6_FonL", "L17")
     small["figures"]["fig6_FonL"]["scenes"]["L99"] = {"L": 10}

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod import ensembles, pipeline
+from confined_rod import pipeline
+from confined_rod.analysis import ensembles
+from confined_rod.analysis.figures import transmitted_force
 from confined_rod.errors import ConfigError
-from confined_rod.figures import transmitted_force
 
 from . import shapes
 
@@ -109,7 +110,7 @@ def test_a_single_seed_per_length_builds_the_dataset_as_before():
 
 
 # -- statistical convergence (figures/convergence.py) ----------------------------------------------
-from confined_rod.figures import convergence  # noqa: E402
+from confined_rod.analysis.figures import convergence  # noqa: E402
 
 
 @pytest.mark.parametrize("means, sems, status", [
@@ -206,7 +207,7 @@ def test_an_ensemble_ladder_whose_rungs_wind_differently_is_inconclusive_not_fai
 
 
 # -- the jamming map (figures/jamming_map.py) -------------------------------------------------------
-from confined_rod.figures import jamming_map  # noqa: E402
+from confined_rod.analysis.figures import jamming_map  # noqa: E402
 
 
 def test_jamming_map_grid_expansion_is_idempotent_and_the_half_length_interpolates():
@@ -231,8 +232,9 @@ def test_jamming_map_grid_expansion_is_idempotent_and_the_half_length_interpolat
 
 
 # -- ensembles of force profiles (Figs 4 and 7) -------------------------------------------------
-from confined_rod import Scene, claims, theory  # noqa: E402
-from confined_rod.figures import force_profile  # noqa: E402
+from confined_rod import Scene, theory
+from confined_rod.analysis.figures import force_profile  # noqa: E402
+from confined_rod.claims import verdicts as claims  # noqa: E402
 
 
 def _profile(seed, scale=1.0, contact=True, L=200.0, N=200, k_fr=0.8, load=0.25):

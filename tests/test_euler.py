@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from confined_rod import Scene
-from confined_rod.solvers.base import RunState
-from confined_rod.solvers.explicit import relax
+from confined_rod.sim.solvers.base import RunState
+from confined_rod.sim.solvers.explicit import relax
 
 L = 5.0
 F_C = np.pi**2 / L**2

@@ -1,5 +1,5 @@
 """No stale, swapped, corrupted or unconverged evidence reaches a figure, a verdict or the paper
-(confined_rod.evidence, pipeline.stale_inputs, the claims and the convergence kind)."""
+(confined_rod.analysis.evidence, pipeline.stale_inputs, the claims and the convergence kind)."""
 import copy
 import os
 import subprocess
@@ -12,7 +12,9 @@ import pytest
 import xarray as xr
 import yaml
 
-from confined_rod import claims, evidence, pipeline, postprocess
+from confined_rod import pipeline
+from confined_rod.analysis import evidence, postprocess
+from confined_rod.claims import verdicts as claims
 from confined_rod.io import netcdf_attr
 
 from . import shapes
@@ -205,7 +207,7 @@ def test_a_convergence_rung_not_at_equilibrium_makes_the_ladder_inconclusive():
 def test_the_figure_says_which_runs_are_not_at_equilibrium():
     import matplotlib.pyplot as plt
 
-    from confined_rod import figures, plotting
+    from confined_rod.analysis import figures, plotting
 
     sims = {f"L{L}": fake_sim(L, 0.8) for L in (20, 40, 80)}
     sims["L80"] = _unsettled(sims["L80"])
@@ -223,7 +225,7 @@ def test_the_unsettled_runs_are_listed_below_a_figure_legend_not_over_it():
     import matplotlib.pyplot as plt
     import xarray as xr
 
-    from confined_rod import plotting
+    from confined_rod.analysis import plotting
 
     fig, ax = plt.subplots(figsize=(4, 3))
     for i in range(6):

@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from confined_rod import paper, plotting
+from confined_rod.analysis import plotting
+from confined_rod.claims import manuscript as paper
 
 ROOT = Path(__file__).resolve().parents[1]
 _spec = importlib.util.spec_from_file_location("check_figure_text", ROOT / "tools" / "check_figure_text.py")

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from confined_rod import Scene
-from confined_rod.solvers import base, explicit, implicit
-from confined_rod.solvers.base import RunState
+from confined_rod.sim.solvers import base, explicit, implicit
+from confined_rod.sim.solvers.base import RunState
 
 SOLVERS = {"explicit": explicit.relax, "implicit": implicit.relax}
 

@@ -29,8 +29,8 @@ from hypothesis import strategies as st
 from confined_rod import cli, limits, pipeline
 from confined_rod.errors import ConfigError, DivergenceError, ResourceLimitError, SceneError
 from confined_rod.io import check_finite
-from confined_rod.scenes import Scene
-from confined_rod.simulation import STATUS, simulate
+from confined_rod.sim.scenes import Scene
+from confined_rod.sim.simulation import STATUS, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = Scene.field_names()
@@ -264,7 +264,7 @@ def test_the_output_is_checked_before_any_work(tmp_path, monkeypatch, target, ex
     (tmp_path / "file.txt").write_text("")
     scene = tmp_path / "s.yaml"
     scene.write_text("L: 10\n")
-    import confined_rod.simulation as sim
+    import confined_rod.sim.simulation as sim
 
     monkeypatch.setattr(sim, "simulate", lambda *a, **k: pytest.fail("simulated before checking the output"))
     code, err = run_cli(["run", str(scene), "-o", target.format(d=tmp_path), "-q"])

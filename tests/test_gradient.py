@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from confined_rod import Scene
-from confined_rod.model import kernels as K
-from confined_rod.model.forces import Workspace
-from confined_rod.model.reference import total_energy
+from confined_rod.sim.model import kernels as K
+from confined_rod.sim.model.forces import Workspace
+from confined_rod.sim.model.reference import total_energy
 
 from .conftest import random_state
 

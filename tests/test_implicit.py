@@ -12,7 +12,7 @@ import pytest
 
 from confined_rod import Scene, simulate
 from confined_rod.errors import DivergenceError
-from confined_rod.model import kernels as K
+from confined_rod.sim.model import kernels as K
 
 
 def pair(**kw):
@@ -75,8 +75,8 @@ def test_an_impossible_state_stops_with_a_message(monkeypatch):
 def test_a_frictionless_scene_does_no_friction_work(monkeypatch):
     """k_fr = 0: neither the implicit friction envelope nor the Coulomb law is ever
     evaluated (both are replaced by functions that fail if called)."""
-    from confined_rod.model import forces
-    from confined_rod.solvers import implicit
+    from confined_rod.sim.model import forces
+    from confined_rod.sim.solvers import implicit
 
     def boom(*a, **k):
         raise AssertionError("friction evaluated in a frictionless scene")
@@ -96,9 +96,9 @@ def test_exact_contact_hessian_matches_finite_differences(rng, floor):
     are up to k_w = 1e3 (the bonds 2e3); one-sided differences with a 1e-7 step
     err by ~ k_w h / R ~ 1e-4 plus round-off k L eps / h ~ 1e-5, so 1e-3 is a
     relative 1e-6 of the largest entries, while a wrong contact term errs by O(k_w)."""
-    from confined_rod.solvers import implicit_kernels as IK
-    from confined_rod.solvers.base import RunState
-    from confined_rod.solvers.implicit import ImplicitStepper
+    from confined_rod.sim.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers.base import RunState
+    from confined_rod.sim.solvers.implicit import ImplicitStepper
 
     from .conftest import random_state
 
@@ -146,9 +146,9 @@ def test_analytic_smooth_hessian_matches_finite_differences(rng, kw):
     k L eps / h_fd ~ 1e-5, so 1e-3 is a relative 2.5e-7; a missing or wrong
     term errs by at least the smallest physical entry, C = EI/l0 = 2 (or the
     drag cr = beta/dt = 0.05), far above it."""
-    from confined_rod.solvers import implicit_kernels as IK
-    from confined_rod.solvers.base import RunState
-    from confined_rod.solvers.implicit import ImplicitStepper
+    from confined_rod.sim.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers.base import RunState
+    from confined_rod.sim.solvers.implicit import ImplicitStepper
 
     from .conftest import random_state
 
@@ -180,7 +180,7 @@ def test_banded_cholesky_matches_lapack(rng):
     relative is ample); and an indefinite matrix is reported, not solved."""
     from scipy.linalg import solveh_banded
 
-    from confined_rod.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers import implicit_kernels as IK
 
     links = 30
     n = IK.NDOF * links
@@ -201,9 +201,9 @@ def test_exact_and_finite_difference_hessians_give_the_same_equilibrium():
     """The Newton Hessian changes the iteration, not the step's solution: without
     friction (unique equilibrium) both end at the same F_z(L) within the stopping
     tolerance, tol * load = 1e-5 (plus the penalty-level difference)."""
-    from confined_rod import observables as obs
-    from confined_rod.solvers.base import run_protocol
-    from confined_rod.solvers.implicit import ImplicitStepper
+    from confined_rod.sim import observables as obs
+    from confined_rod.sim.solvers.base import run_protocol
+    from confined_rod.sim.solvers.implicit import ImplicitStepper
 
     sc = Scene(L=20.0, load=0.25, k_fr=0.0, tol=1e-4)
     F = []
@@ -215,7 +215,7 @@ def test_exact_and_finite_difference_hessians_give_the_same_equilibrium():
 
 
 def _frames(r):
-    from confined_rod.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers import implicit_kernels as IK
 
     frame = np.zeros((len(r), 3, 3))
     IK.local_frames(r, frame)
@@ -226,7 +226,7 @@ def test_stick_model_switches_only_links_the_step_carries_back_into_the_stick_zo
     """Constructed: two links on the wall at x = 1 (frame: radial x, azimuthal y, axial z),
     both in slip along +z (offset 0.01 R from the anchor, f_max/k_t = 1e-3 R). The step moves
     link 0 back by 0.0095 R (into the stick zone) and link 1 on by 0.005 R (still slipping)."""
-    from confined_rod.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers import implicit_kernels as IK
 
     NDOF = IK.NDOF
     r = np.array([[1.0, 0.0, 0.51], [1.0, 0.0, 1.01]])
@@ -248,7 +248,7 @@ def test_contact_model_puts_ends_the_step_carries_into_the_wall_in_contact():
     """Constructed: a link parallel to the axis at radius 0.99 R (ends 0.01 R off the wall) and
     one on the axis; the step moves both 0.02 R outwards: only the first link's ends reach the
     wall, and each gets the penalty continued to its point, gradient k_w (rho - R) = -10 radially."""
-    from confined_rod.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers import implicit_kernels as IK
 
     sc = Scene(L=4.0, l0=1.0, k_w=1000.0, name="cm")
     NDOF = IK.NDOF
@@ -272,8 +272,8 @@ def test_active_set_model_changes_the_work_not_the_path(L, monkeypatch):
     """The re-solved Newton direction changes how Newton gets to each step's solution, not the
     solution: |F_z(L)| of a frictional helix the same to 1e-5 (measured 2e-8 at L/R = 40 and
     4e-7 at 80: the steps' Newton tolerance), fewer gradients."""
-    from confined_rod import observables
-    from confined_rod.solvers import implicit
+    from confined_rod.sim import observables
+    from confined_rod.sim.solvers import implicit
 
     out = []
     for flag in (False, True):
@@ -294,7 +294,7 @@ def test_a_run_whose_friction_bound_lags_settles_instead_of_reaching_t_max():
     they do not close the gap (a link whose normal force moves with its own friction), dt must not
     keep doubling. Found at the publication numerics, L/R = 320, seed 4: the run reached t_max =
     1e9 at eps_F = 4e-4 (40 tol) in 708 steps; now it settles at t ~ 3e5."""
-    from confined_rod.solvers import implicit
+    from confined_rod.sim.solvers import implicit
 
     sc = Scene(L=320.0, load=0.25, k_fr=0.8, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5, seed=4, name="lag")
     st = implicit.run(sc, progress=False)
@@ -311,7 +311,7 @@ def test_a_light_sliding_contact_whose_bound_cycles_settles():
     tens of steps (this test: the 28 stages, ~10 s)."""
     import dataclasses
 
-    from confined_rod.solvers import base, implicit
+    from confined_rod.sim.solvers import base, implicit
 
     sc = Scene(L=640.0, load=0.25, k_fr=0.8, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5, seed=0, protocol="ramp",
                ramp_steps=32, name="cycle")
@@ -332,7 +332,7 @@ def test_anderson_passes_solve_a_linear_fixed_point_that_substitution_cannot(eig
     eigenvalues, Anderson mixing with depth >= n is GMRES on (I - J) x = b: exact after n + 1
     passes up to round-off, where plain substitution cycles (eigenvalue -1: a two-cycle, the
     cycles the passes met on the wall) or diverges (|eigenvalue| > 1)."""
-    from confined_rod.solvers.implicit import AndersonHistory
+    from confined_rod.sim.solvers.implicit import AndersonHistory
 
     n = len(eigenvalues)
     Q = np.linalg.qr(rng.normal(size=(n, n)))[0]
@@ -359,8 +359,8 @@ def test_a_long_rod_runs_bitwise_the_same_with_any_number_of_blas_threads():
     import subprocess
     import sys
 
-    code = ("import hashlib; from confined_rod import Scene; from confined_rod.solvers.base import run_protocol;"
-            "from confined_rod.solvers.implicit import ImplicitStepper;"
+    code = ("import hashlib; from confined_rod import Scene; from confined_rod.sim.solvers.base import run_protocol;"
+            "from confined_rod.sim.solvers.implicit import ImplicitStepper;"
             "sc = Scene(L=1100.0, seed=0, load=0.25, k_fr=0.8, k_ph=1e4, max_steps=40, name='blas');"
             "st = run_protocol(sc, ImplicitStepper, progress=False);"
             "print(st.steps, hashlib.sha1(st.r.tobytes() + st.t.tobytes()).hexdigest())")
@@ -375,7 +375,7 @@ def test_the_bound_passes_wait_until_the_step_has_nearly_stopped_moving():
     slides by ~dx_max, and there the passes cannot close (the slip itself moves the bound). On a
     rod on the wall at a large dt: a step that moved it outwards by dx_max/2 runs no pass, one that
     moved it by dx_max/100 does (both change the normal forces by far more than the tolerance)."""
-    from confined_rod.solvers import base, implicit
+    from confined_rod.sim.solvers import base, implicit
 
     sc = Scene(L=20.0, load=0.25, k_fr=0.8, seed=0, name="gate")
     st = implicit.run(sc, progress=False)

@@ -14,9 +14,9 @@ for the discrete rod (C = EI/l0) pi^2/L^2 becomes (4/l0^2) sin^2(pi l0/(2L)).
 import numpy as np
 import pytest
 
-from confined_rod import observables as obs
-from confined_rod import paths
-from confined_rod.scenes import Scene
+from confined_rod.sim import load_paths as paths
+from confined_rod.sim import observables as obs
+from confined_rod.sim.scenes import Scene
 
 L, L0 = 10.0, 0.5
 COS = np.sqrt(1 - 4.0 / L**2)
@@ -92,7 +92,7 @@ def test_a_defect_is_found_in_a_helix_with_one_reversal_and_none_in_a_clean_one(
     """Helices on the wall built link by link: phi(s) winds one way, then (with a
     defect at s = 12.25) the other; the contact-stretch rate dphi/ds as the simulator
     computes it (np.gradient of the unwrapped azimuth)."""
-    from confined_rod.measure import defects
+    from confined_rod.analysis.measure import defects
 
     s = (np.arange(60) + 0.5) * 0.5
     omega = 0.7
@@ -148,7 +148,7 @@ def test_bifurcation_config_is_checked_before_any_work():
 
 def test_bifurcation_dataset_and_figure_from_real_runs():
     from confined_rod import pipeline
-    from confined_rod.figures import bifurcation
+    from confined_rod.analysis.figures import bifurcation
     from confined_rod.io import check_finite
 
     config = {"figures": {"fig3": FIG3}}
@@ -187,7 +187,7 @@ def test_a_rod_well_below_the_fold_threshold_forms_a_helix_and_stays_in_the_pore
     """The fold threshold is 0.66-0.67 EI/R^2 with k_fr = 0.8 (0.61 frictionless); at
     0.4 EI/R^2, well below, rods of two lengths and two seeds settle into helices inside
     the pore: no fold, no escape, L_z close to L."""
-    from confined_rod.simulation import simulate
+    from confined_rod.sim.simulation import simulate
 
     for L, seed in ((40.0, 1), (40.0, 2), (80.0, 1)):
         ds = simulate(Scene(L=L, load=0.4, k_fr=0.8, seed=seed, name="below"), progress=False)
@@ -244,7 +244,7 @@ def test_the_escape_threshold_is_eulers_load_of_the_free_span():
 
 
 def test_an_unguided_end_above_the_entrance_is_refused_in_the_escape_figure():
-    from confined_rod.figures import escape
+    from confined_rod.analysis.figures import escape
 
     built = {"ev": Scene(L=40.0, load=0.5, pore_length=35.0, name="ev")}
     with pytest.raises(Exception, match=r"scenes\.ev: pore_length = 35 < L = 40 with ends = 'free'.*guided"):

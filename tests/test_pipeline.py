@@ -13,8 +13,9 @@ import pytest
 import xarray as xr
 import yaml
 
-from confined_rod import Scene, pipeline, plotting, postprocess, theory
-from confined_rod.io import write_dataset
+from confined_rod import Scene, pipeline, theory
+from confined_rod.analysis import plotting, postprocess
+from confined_rod.io import logged, write_dataset
 
 from .shapes import sliding_friction
 
@@ -214,7 +215,7 @@ def test_captions_state_what_and_with_which_parameters():
 def test_logged_keeps_the_traceback(tmp_path):
     log = tmp_path / "sub" / "job.log"
     with pytest.raises(ZeroDivisionError):
-        with pipeline.logged(log):
+        with logged(log):
             print("started")
             1 / 0
     text = log.read_text()
@@ -283,18 +284,24 @@ def test_jamming_map_loads_that_round_to_one_name_are_refused():
 def test_code_inputs_follow_the_imports_and_never_reach_the_simulator():
     """A kind's code inputs are the modules it imports, transitively: editing the helper that the
     escape and transition kinds import from helix_views re-runs their figures too; the styling is
-    not an input of a step that makes data; and no analysis step depends on simulator code (the
-    import boundary, read from the source)."""
-    pkg = pipeline.PACKAGE
-    rel = lambda paths: {str(Path(p).relative_to(pkg)) for p in paths}  # noqa: E731
+    not an input of a step that makes data; no analysis or claims step depends on simulator code
+    (the import boundary, read from the source); the simulations depend on every module of sim/
+    and on no figure quantity, and the claims not on the manuscript generator."""
+    from confined_rod.pipeline import code
+
+    pkg = code.PACKAGE
+    rel = lambda paths: {Path(p).relative_to(pkg).as_posix() for p in paths}  # noqa: E731
     for kind in ("escape", "transition"):
-        assert "figures/helix_views.py" in rel(pipeline.code_closure(pkg / "figures" / f"{kind}.py"))
-    data = rel(pipeline.code_closure(pkg / "postprocess.py", pkg / "figures" / "escape.py",
-                                     skip=(pkg / "plotting.py",)))
-    assert "plotting.py" not in data and {"postprocess.py", "figures/escape.py", "measure.py"} <= data
-    simulator = {"scenes.py", "simulation.py", "observables.py", "stability.py", "paths.py"}
-    for module in [pkg / "postprocess.py", pkg / "plotting.py", pkg / "claims.py", pkg / "paper.py",
-                   *sorted((pkg / "figures").glob("*.py"))]:
-        reached = rel(pipeline.code_closure(module))
-        assert not (reached & simulator) and not any(r.startswith(("model/", "solvers/")) for r in reached), \
-            (module.name, sorted(reached & simulator))
+        assert "analysis/figures/helix_views.py" in rel(code.code_closure(code.ANALYSIS / "figures" / f"{kind}.py"))
+    data = rel(code.postprocess_code(code.ANALYSIS / "figures" / "escape.py"))
+    assert "analysis/plotting.py" not in data
+    assert {"analysis/postprocess.py", "analysis/figures/escape.py", "analysis/measure.py"} <= data
+    for module in [*sorted(code.ANALYSIS.rglob("*.py")), *sorted(code.CLAIMS.rglob("*.py"))]:
+        reached = rel(code.code_closure(module))
+        assert not any(r.startswith("sim/") for r in reached), (module.name, sorted(reached))
+    sim = rel(code.simulation_code())
+    assert {p.relative_to(pkg).as_posix() for p in code.SIM.rglob("*.py")} <= sim
+    assert {"quantities.py", "io.py", "limits.py", "theory.py"} <= sim
+    assert not any(r.startswith(("analysis/", "claims/", "pipeline/")) for r in sim), sorted(sim)
+    assert "claims/manuscript.py" not in rel(code.claims_code())
+    assert "claims/manuscript.py" in rel(code.paper_code())

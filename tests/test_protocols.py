@@ -6,10 +6,10 @@ import pytest
 import xarray as xr
 
 from confined_rod import Scene
+from confined_rod.analysis.figures import protocol_comparison as pc
 from confined_rod.errors import SceneError
-from confined_rod.figures import protocol_comparison as pc
 from confined_rod.limits import roundoff_tol
-from confined_rod.solvers.base import ramp_stage
+from confined_rod.sim.solvers.base import ramp_stage
 from confined_rod.theory import helix_pitch_rate
 
 
@@ -102,8 +102,8 @@ def test_protocol_comparison_stores_the_torque_and_the_formation():
     """Two variants of a short rod, one storing snapshots: per member the torque closure and the
     bulk ratios, along s the force and torque of the variants drawn, the force while forming;
     nothing NaN, and the figure draws."""
-    from confined_rod import plotting as P
     from confined_rod import simulate
+    from confined_rod.analysis import plotting as P
     from confined_rod.io import check_finite
 
     sims = {}

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from confined_rod import measure, regions
+from confined_rod.analysis import measure, regions
 
 from .shapes import PROFILE as _P
 from .shapes import profile_rod as constructed

@@ -3,9 +3,9 @@ exception or a NaN."""
 import numpy as np
 
 from confined_rod import pipeline
-from confined_rod.figures.stability_map import build as stability_map
+from confined_rod.analysis.figures.stability_map import build as stability_map
 from confined_rod.io import check_finite
-from confined_rod.stability import STATUS, probe
+from confined_rod.sim.probe import STATUS, probe
 
 BASE = {"L": 4.0, "l0": 0.5, "load": 0.5, "k_fr": 0.8, "t_max": 200.0}
 
@@ -85,7 +85,7 @@ def test_the_map_classifies_each_point_by_its_physics_as_well_as_its_status():
               "implicit-k_w-m1": _probe("invalid", 0.0),
               "implicit-load-2p5": _probe("converged", 1.2, "helix")}
     ds = stability_map(fig, probes)
-    from confined_rod.figures.stability_map import OUTCOMES
+    from confined_rod.analysis.figures.stability_map import OUTCOMES
 
     got = {p: OUTCOMES[int(o)] for p, o in zip(ds.point.values, ds.outcome.values)}
     assert got == {"implicit-base": "reference_state", "implicit-tol-0p1": "other_state",

@@ -10,7 +10,7 @@ import pytest
 
 from confined_rod import DivergenceError, Scene, simulate
 from confined_rod.errors import SceneError
-from confined_rod.solvers import base, explicit
+from confined_rod.sim.solvers import base, explicit
 
 
 def test_escape_stops_the_run():
@@ -32,8 +32,8 @@ def test_time_cap_flags_not_converged():
 def test_a_step_budget_ends_the_run_as_step_cap_and_is_refused_when_negative(solver):
     """max_steps is a work budget: the run stops once it has taken exactly that many
     steps, unconverged, with the reason."""
-    from confined_rod.scenes import SceneError
-    from confined_rod.stability import STATUS, probe
+    from confined_rod.sim.probe import STATUS, probe
+    from confined_rod.sim.scenes import SceneError
 
     ds = simulate(Scene(L=10.0, load=0.5, solver=solver, max_steps=30), progress=False)
     assert ds.attrs["status"] == "step_cap" and int(ds.converged) == 0
@@ -110,7 +110,7 @@ def test_the_equilibrium_tolerance_is_lifted_only_to_the_round_off_floor():
     """The floor 2 x 4 eps (k L + k_w R + load) / (l0 load / L) grows as L^2 k_ph / l0^2:
     far below tol for the rods of the tests, 1.2e-4 > tol = 1e-5 at the publication's
     L/R = 640 (k_ph = 1e4, l0 = 0.5 R)."""
-    from confined_rod.solvers.base import equilibrium_tol
+    from confined_rod.sim.solvers.base import equilibrium_tol
 
     assert equilibrium_tol(Scene(L=20, load=0.25, l0=0.5, tol=1e-5)) == 1e-5
     long = Scene(L=640, load=0.25, l0=0.5, k_ph=1e4, tol=1e-5)

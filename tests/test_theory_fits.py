@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from confined_rod import theory
-from confined_rod.fits import FitError, fit_power_law, power_law
+from confined_rod.analysis.fits import FitError, fit_power_law, power_law
 
 
 def test_force_decay_obeys_its_ode():

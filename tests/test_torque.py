@@ -1,4 +1,4 @@
-"""The axial torque budget (confined_rod.torque) on constructed rods whose torque is known.
+"""The axial torque budget (confined_rod.analysis.torque) on constructed rods whose torque is known.
 
 A helix of constant radius and pitch rate is given an axial torque profile tau(s) that is zero
 at both ends (both ends free to turn) and is not symmetric, so that a budget summed from the
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod import torque
+from confined_rod.analysis import torque
 
 L, L0, EI, RHO, W = 60.0, 0.5, 1.0, 0.9, -0.3
 N = int(L / L0)
@@ -94,7 +94,8 @@ def test_the_simulated_friction_closes_the_torque_budget():
     """A frictional rod in equilibrium with both ends free to turn: the wall friction's total
     axial torque vanishes to the equilibrium tolerance, and in the bulk helix the torque it leaves
     in the rod equals the one the local helix carries."""
-    from confined_rod import Scene, regions, simulate
+    from confined_rod import Scene, simulate
+    from confined_rod.analysis import regions
 
     d = simulate(Scene(L=60.0, load=0.25, k_fr=0.8, seed=2, tol=1e-6), progress=False)
     assert d.attrs["status"] == "converged"

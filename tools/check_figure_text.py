@@ -35,7 +35,9 @@ matplotlib.use("Agg")
 import matplotlib.text  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from confined_rod import figures, paper, pipeline, plotting  # noqa: E402
+from confined_rod import pipeline  # noqa: E402
+from confined_rod.analysis import figures, plotting
+from confined_rod.claims import manuscript as paper
 
 MIN_PT = 7.0
 
@@ -113,7 +115,7 @@ def main(argv=None) -> int:
         if len(shown) < len(r["small"]):
             print(f"    ... and {len(r['small']) - len(shown)} more (-v lists them)")
         if r["small"]:
-            failed.setdefault(f"src/confined_rod/figures/{r['kind']}.py", []).append(name)
+            failed.setdefault(f"src/confined_rod/analysis/figures/{r['kind']}.py", []).append(name)
     if failed:
         print(f"check_figure_text: FAIL: text printed below {args.min:g} pt in "
               + "; ".join(f"{where} ({', '.join(names)})" for where, names in failed.items()))

@@ -8,10 +8,9 @@ wall and Coulomb wall friction relaxed by overdamped dynamics.
     ds = simulate(Scene(L=40, load=0.25, k_fr=0.8))
 
 ``Scene`` and ``simulate`` are imported on first use, so that post-processing
-(``confined_rod.figures``, ``confined_rod.measure``) never loads the simulator.
+(``confined_rod.analysis.figures``, ``confined_rod.analysis.measure``) never loads the simulator.
 """
-__version__ = "0.1.0"
-
+from ._version import __version__  # noqa: E402
 from .errors import ConfigError, DivergenceError, SceneError  # noqa: E402
 
 __all__ = ["Scene", "simulate", "SceneError", "ConfigError", "DivergenceError", "__version__"]
@@ -19,11 +18,11 @@ __all__ = ["Scene", "simulate", "SceneError", "ConfigError", "DivergenceError", 
 
 def __getattr__(name):
     if name == "Scene":
-        from .scenes import Scene
+        from .sim.scenes import Scene
 
         return Scene
     if name == "simulate":
-        from .simulation import simulate
+        from .sim.simulation import simulate
 
         return simulate
     raise AttributeError(f"module 'confined_rod' has no attribute {name!r}")

@@ -43,7 +43,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     if args.command == "schema":
-        from .config_schema import render
+        from .pipeline.schema import render
 
         text = render()
         if args.check:
@@ -69,7 +69,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "check-config":
         return check_config(args.config)
 
-    from .scenes import Scene
+    from .sim.scenes import Scene
 
     if args.command == "show-defaults":
         import yaml
@@ -110,7 +110,7 @@ def check_config(path: Path) -> int:
 def run(args: argparse.Namespace) -> int:
     from . import limits
     from .io import check_output_path
-    from .scenes import Scene
+    from .sim.scenes import Scene
 
     def refuse(msg: str) -> int:
         print(f"error: {msg}", file=sys.stderr)
@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
     import signal
 
     from .io import write_dataset
-    from .simulation import simulate
+    from .sim.simulation import simulate
 
     def terminated(signum, frame):
         raise KeyboardInterrupt

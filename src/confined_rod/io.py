@@ -13,8 +13,6 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .quantities import attrs
-
 CONVENTIONS = "CF-1.10"
 UNITS_NOTE = ("units are combinations of the scene's cylinder radius R and bending stiffness EI "
               "(and beta_ph, the drag per length, for time); with R = EI = 1 they are the internal units")
@@ -49,7 +47,7 @@ def provenance() -> dict[str, str]:
 def _provenance() -> dict[str, str]:
     from importlib.metadata import PackageNotFoundError, version
 
-    from . import __version__
+    from ._version import __version__
 
     def v(dist: str) -> str:
         try:
@@ -81,10 +79,6 @@ def netcdf_attr(value: Any) -> Any:
             return ", ".join(value)
         return np.asarray(value, dtype=float)
     return value
-
-
-def variable(dims, data, name: str) -> xr.Variable:
-    return xr.Variable(dims, np.asarray(data), attrs=attrs(name))
 
 
 def finalize(ds: xr.Dataset, title: str, params: dict[str, Any]) -> xr.Dataset:

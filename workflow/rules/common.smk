@@ -4,7 +4,9 @@ from pathlib import Path
 
 from snakemake_interface_executor_plugins.settings import DeploymentMethod
 
-from confined_rod import limits, paper, pipeline
+from confined_rod import layout, limits, pipeline
+from confined_rod.claims import manuscript
+from confined_rod.pipeline import code
 
 # Before any job: each config file re-read strictly (duplicate keys, aliases, line
 # numbers), the JSON schema (workflow/schemas/config.schema.yaml, one-line errors),
@@ -36,32 +38,12 @@ wildcard_constraints:
 
 ALL_TARGETS = pipeline.expected_outputs(config)
 
-# Code each step depends on, so that Snakemake's mtime trigger re-runs a step when
-# its code changes: a change to the physics re-runs the simulations; a change to a
-# figure kind's module (dataset builder and plot), or to any package module it imports
-# (pipeline.code_closure: derived from the imports, a helper shared by two kinds
-# included), re-runs that kind's datasets and figures; a change to the shared styling
-# only the figures. Post-processing never imports the simulator.
-_PKG = Path(workflow.basedir) / "src" / "confined_rod"
-_FIGURES = _PKG / "figures"
-STYLE = _PKG / "plotting.py"
-# the analysis side, for the simulation's exclusions below (issue: make this a subpackage)
-_ANALYSIS = [
-    str(_PKG / f)
-    for f in ("postprocess.py", "measure.py", "fits.py", "theory.py", "ensembles.py", "regions.py", "torque.py",
-              "evidence.py")
-] + [str(_FIGURES / "__init__.py"), str(_FIGURES / "_common.py")]
-_NOT_SIMULATION = set(_ANALYSIS) | {str(STYLE)} | {
-    str(_PKG / f) for f in ("pipeline.py", "cli.py", "__main__.py", "config_schema.py",
-                            "claims.py", "derivations.py", "paper.py")
-}
-# theory.py is shared: the helix start (scenes.py) takes its pitch from it, and the load paths
-# (Fig 3) their bisection brackets
-SIMULATION_CODE = sorted(
-    str(p)
-    for p in _PKG.rglob("*.py")
-    if str(p) not in _NOT_SIMULATION and _FIGURES not in p.parents
-) + [str(_PKG / "theory.py")]
+# Code each step depends on, so that Snakemake's mtime trigger re-runs a step when its code
+# changes, decided by where a module is (confined_rod.pipeline.code): sim/ -> the simulations;
+# a figure kind's module and what it imports -> its datasets and figures; the styling -> the
+# figures only; claims/ -> the claims and the manuscript. Post-processing never imports the
+# simulator (checked by the import contracts in pyproject.toml).
+SIMULATION_CODE = code.simulation_code()
 PATH_CODE = SIMULATION_CODE
 
 
@@ -84,7 +66,7 @@ def stale_path(wildcards):
     )
 
 
-# -- running scenes: batches of small scenes in one process, or a scene alone (confined_rod.runs)
+# -- running scenes: batches of small scenes in one process, or a scene alone (confined_rod.sim.runs)
 # The interpreter of a job: the conda env's with --use-conda, else Snakemake's own (the venv's).
 PYTHON = (
     "python"
@@ -131,13 +113,11 @@ def kind_module(wildcards):
 
 
 def postprocess_code(wildcards):
-    """postprocess.py, the kind's module and every package module they import (not the styling)."""
-    return pipeline.code_closure(_PKG / "postprocess.py", kind_module(wildcards), skip=(STYLE,))
+    return code.postprocess_code(kind_module(wildcards))
 
 
 def figure_code(wildcards):
-    """The styling, the kind's module and every package module they import."""
-    return pipeline.code_closure(STYLE, kind_module(wildcards))
+    return code.figure_code(kind_module(wildcards))
 
 
 def read_datasets(wildcards):
@@ -171,10 +151,8 @@ def path_priority(wildcards):
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
 PAPER = config.get("paper") or {}
-# the claims and the manuscript: their modules and every package module they import (the
-# measures, the pitch profile the pitch law rebuilds per seed, the torque budget's forms)
-CLAIMS_CODE = pipeline.code_closure(_PKG / "claims.py", _PKG / "derivations.py", skip=(STYLE,))
-PAPER_CODE = pipeline.code_closure(_PKG / "paper.py", _PKG / "claims.py", _PKG / "derivations.py", skip=(STYLE,))
+CLAIMS_CODE = code.claims_code()
+PAPER_CODE = code.paper_code()
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
                else "config/config.yaml")
 

@@ -1,12 +1,12 @@
 rule figure:
     """Draw one figure (PDF for the paper, PNG for the report) from its dataset."""
     input:
-        data="results/datasets/{figure}.nc",
+        data=layout.dataset_path("{figure}"),
         code=figure_code,
     output:
-        pdf="results/figures/{figure}.pdf",
+        pdf=layout.figure_paths("{figure}")[0],
         png=report(
-            "results/figures/{figure}.png",
+            layout.figure_paths("{figure}")[1],
             caption="../report/figure.rst",
             category="Figures",
             labels={"figure": "{figure}"},
@@ -14,9 +14,9 @@ rule figure:
     params:
         caption=lambda wildcards: pipeline.caption(config, wildcards.figure),
     log:
-        "results/logs/figure/{figure}.log",
+        layout.log_path("figure", "{figure}"),
     benchmark:
-        "results/benchmarks/figure/{figure}.tsv"
+        layout.benchmark_path("figure", "{figure}")
     threads: 1
     resources:
         mem_mb=1000,

@@ -13,16 +13,16 @@ rule claims:
         sims=claim_sims,
         code=CLAIMS_CODE,
     output:
-        csv="results/claims.csv",
-        nc="results/claims.nc",
+        csv=layout.CLAIMS_CSV,
+        nc=layout.CLAIMS_NC,
     params:
         figures=lambda wildcards: pipeline.figures(config),
         sim_keys=lambda wildcards: list(pipeline.claim_sims(config)),
         wanted=lambda wildcards: pipeline.claim_wanted(config),
     log:
-        "results/logs/claims/claims.log",
+        layout.log_path("claims", "claims"),
     benchmark:
-        "results/benchmarks/claims/claims.tsv"
+        layout.benchmark_path("claims", "claims")
     threads: 1
     resources:
         mem_mb=2000,
@@ -37,24 +37,24 @@ rule paper_sources:
     """The manuscript's generated parts: numbers (macros), claims and readings tables, figure
     floats with captions and provenance, and the text the PDF check expects."""
     input:
-        claims="results/claims.nc",
+        claims=layout.CLAIMS_NC,
         datasets=ALL_TARGETS["datasets"],
         code=PAPER_CODE,
     output:
-        numbers="results/paper/numbers.tex",
-        table="results/paper/claims_table.tex",
-        readings="results/paper/readings_table.tex",
-        figures="results/paper/figures.tex",
-        expected="results/paper/expected.json",
+        numbers=layout.paper_source("numbers"),
+        table=layout.paper_source("table"),
+        readings=layout.paper_source("readings"),
+        figures=layout.paper_source("figures"),
+        expected=layout.paper_source("expected"),
     params:
         figures=lambda wildcards: pipeline.figures(config),
-        order=lambda wildcards: paper.figure_order(config),
+        order=lambda wildcards: manuscript.figure_order(config),
         captions=lambda wildcards: {f: pipeline.caption(config, f) for f in pipeline.figures(config)},
         config_name=CONFIG_NAME,
     log:
-        "results/logs/paper_sources/paper_sources.log",
+        layout.log_path("paper_sources", "paper_sources"),
     benchmark:
-        "results/benchmarks/paper_sources/paper_sources.tsv"
+        layout.benchmark_path("paper_sources", "paper_sources")
     threads: 1
     resources:
         mem_mb=1000,
@@ -74,11 +74,11 @@ rule paper:
         sources=rules.paper_sources.output,
         figures=ALL_TARGETS["figures"],
     output:
-        "results/paper/{name}.pdf",
+        layout.paper_pdf("{name}"),
     log:
-        "results/logs/paper/{name}.log",
+        layout.log_path("paper", "{name}"),
     benchmark:
-        "results/benchmarks/paper/{name}.tsv"
+        layout.benchmark_path("paper", "{name}")
     threads: 1
     resources:
         mem_mb=1000,

@@ -5,7 +5,7 @@ rule postprocess:
         datasets=read_datasets,
         code=postprocess_code,
     output:
-        "results/datasets/{figure}.nc",
+        layout.dataset_path("{figure}"),
     params:
         figure_config=lambda wildcards: config["figures"][wildcards.figure],
         scenes=lambda wildcards: pipeline.scenes(config, wildcards.figure),
@@ -13,9 +13,9 @@ rule postprocess:
         context=build_context,
         read=lambda wildcards: list(pipeline.read_figures(config, wildcards.figure)),
     log:
-        "results/logs/postprocess/{figure}.log",
+        layout.log_path("postprocess", "{figure}"),
     benchmark:
-        "results/benchmarks/postprocess/{figure}.tsv"
+        layout.benchmark_path("postprocess", "{figure}")
     threads: 1
     resources:
         mem_mb=1000,
@@ -31,17 +31,17 @@ rule convergence_check:
     limit than the config's tolerance (or the check is inconclusive and the config
     says that fails too); otherwise write the one-line verdict."""
     input:
-        "results/datasets/{figure}.nc",
+        layout.dataset_path("{figure}"),
     output:
-        "results/checks/{figure}.txt",
+        layout.check_path("{figure}"),
     params:
         on_inconclusive=lambda wildcards: config["figures"][wildcards.figure].get(
             "on_inconclusive", "fail"
         ),
     log:
-        "results/logs/convergence_check/{figure}.log",
+        layout.log_path("convergence_check", "{figure}"),
     benchmark:
-        "results/benchmarks/convergence_check/{figure}.tsv"
+        layout.benchmark_path("convergence_check", "{figure}")
     threads: 1
     resources:
         mem_mb=500,

@@ -6,15 +6,15 @@ rule batch:
     input:
         code=SIMULATION_CODE,
     output:
-        "results/batches/{kind}/{figure}/{batch}.json",
+        layout.batch_manifest("{kind}", "{figure}", "{batch}"),
     params:
         job=lambda wildcards: pipeline.batch_job(
             config, wildcards.kind, wildcards.figure, wildcards.batch
         ),
     log:
-        "results/logs/batch/{kind}/{figure}/{batch}.log",
+        layout.log_path("batch", "{kind}", "{figure}", "{batch}"),
     benchmark:
-        "results/benchmarks/batch/{kind}/{figure}/{batch}.tsv"
+        layout.benchmark_path("batch", "{kind}", "{figure}", "{batch}")
     wildcard_constraints:
         kind="simulate|probe",
     threads: 1
@@ -30,7 +30,7 @@ rule batch:
 
 rule simulate:
     """One scene's dataset: moved into place from its batch, or (a scene that runs alone, or one
-    whose batch copy is gone) relaxed to equilibrium in this job (confined_rod.runs)."""
+    whose batch copy is gone) relaxed to equilibrium in this job (confined_rod.sim.runs)."""
     input:
         code=SIMULATION_CODE,
         stale=stale_sim,
@@ -38,7 +38,7 @@ rule simulate:
             config, "simulate", wildcards.figure, wildcards.scene
         ),
     output:
-        "results/sims/{figure}/{scene}.nc",
+        layout.sim_path("{figure}", "{scene}"),
     params:
         cached=lambda wildcards: pipeline.member_cache(
             config, "simulate", wildcards.figure, wildcards.scene
@@ -47,9 +47,9 @@ rule simulate:
         scene=lambda wildcards: scene_json(wildcards),
         run=RUN_SCENE,
     log:
-        "results/logs/simulate/{figure}/{scene}.log",
+        layout.log_path("simulate", "{figure}", "{scene}"),
     benchmark:
-        "results/benchmarks/simulate/{figure}/{scene}.tsv"
+        layout.benchmark_path("simulate", "{figure}", "{scene}")
     threads: 1
     priority: job_priority
     resources:
@@ -71,7 +71,7 @@ rule probe:
             config, "probe", wildcards.figure, wildcards.scene
         ),
     output:
-        "results/probes/{figure}/{scene}.nc",
+        layout.probe_path("{figure}", "{scene}"),
     params:
         cached=lambda wildcards: pipeline.member_cache(
             config, "probe", wildcards.figure, wildcards.scene
@@ -80,9 +80,9 @@ rule probe:
         scene=lambda wildcards: scene_json(wildcards),
         run=RUN_SCENE,
     log:
-        "results/logs/probe/{figure}/{scene}.log",
+        layout.log_path("probe", "{figure}", "{scene}"),
     benchmark:
-        "results/benchmarks/probe/{figure}/{scene}.tsv"
+        layout.benchmark_path("probe", "{figure}", "{scene}")
     threads: 1
     priority: job_priority
     resources:
@@ -96,12 +96,12 @@ rule probe:
 
 rule load_path:
     """One scene of a path figure (Fig 3): equilibria along a load sweep (up, down or
-    fresh at each load) or the thresholds by bisection; confined_rod.paths.run_spec."""
+    fresh at each load) or the thresholds by bisection; confined_rod.sim.load_paths.run_spec."""
     input:
         code=PATH_CODE,
         stale=stale_path,
     output:
-        "results/paths/{figure}/{scene}.nc",
+        layout.path_file("{figure}", "{scene}"),
     params:
         scene=lambda wildcards: pipeline.scene_params(
             config, wildcards.figure, wildcards.scene
@@ -110,9 +110,9 @@ rule load_path:
             config, wildcards.figure, wildcards.scene
         ),
     log:
-        "results/logs/load_path/{figure}/{scene}.log",
+        layout.log_path("load_path", "{figure}", "{scene}"),
     benchmark:
-        "results/benchmarks/load_path/{figure}/{scene}.tsv"
+        layout.benchmark_path("load_path", "{figure}", "{scene}")
     threads: 1
     priority: path_priority
     resources:

@@ -1,12 +1,12 @@
 """Snakemake script of rule `batch`: the members of one batch run in this process, each to its
-own dataset in the batch's folder (confined_rod.runs.run_batch), then the manifest."""
+own dataset in the batch's folder (confined_rod.sim.runs.run_batch), then the manifest."""
 import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 
 # isort: split
 import shutil
 
 from confined_rod.io import logged
-from confined_rod.runs import run_batch
+from confined_rod.sim.runs import run_batch
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     job = snakemake.params.job  # noqa: F821

@@ -4,7 +4,7 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 # isort: split
 import xarray as xr
 
-from confined_rod import figures
+from confined_rod.analysis import figures
 from confined_rod.io import logged, write_text
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)

@@ -4,7 +4,7 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 # isort: split
 from confined_rod import Scene
 from confined_rod.io import logged, write_dataset
-from confined_rod.paths import run_spec
+from confined_rod.sim.load_paths import run_spec
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     scene = Scene.from_dict(dict(snakemake.params.scene))  # noqa: F821

@@ -2,7 +2,7 @@
 import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 
 # isort: split
-from confined_rod import paper
+from confined_rod.claims import manuscript as paper
 from confined_rod.io import logged
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -6,7 +6,7 @@ import json
 
 import xarray as xr
 
-from confined_rod import paper
+from confined_rod.claims import manuscript as paper
 from confined_rod.io import logged, write_text
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -2,7 +2,7 @@
 import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 
 # isort: split
-from confined_rod import evidence, postprocess
+from confined_rod.analysis import evidence, postprocess
 from confined_rod.io import logged, write_dataset
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)

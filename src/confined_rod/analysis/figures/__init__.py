@@ -1,0 +1,72 @@
+"""Figure kinds, one module each, found by name: ``confined_rod/analysis/figures/<kind>.py``.
+
+A kind module holds everything about one kind of figure:
+
+    OPTIONS   JSON-schema properties of the kind's own config entries (the config
+              schema is generated from them: ``python -m confined_rod schema``)
+    SOURCE    "simulate" (default), "probe" or "path": the rule that makes its scene
+              files (a "path" kind also defines path_spec(fig_cfg, scene): what the
+              rule load_path runs for that scene, see confined_rod.sim.load_paths.run_spec)
+    validate(figure, fig_cfg, built)   built: scene id -> Scene; raise ConfigError
+    varied(fig_cfg)                    scene parameters that differ between its scenes
+    caption(figure, fig_cfg, built)    what the figure shows (the pipeline adds the title
+                                       and the common parameters)
+    build(fig_cfg, sims, context)      scene id -> scene dataset  =>  the figure's dataset
+    READS     optional: {option: kinds}, options that name another figure of the config
+              whose dataset the builder reads (context["datasets"][name]); e.g. the
+              jamming map's measured fold/escape thresholds from the Fig 8 figure
+    plot(ds)                           the figure's dataset  =>  a matplotlib Figure
+
+Adding a kind is one new module here and its entry in a config (then regenerate the
+schema). The modules are post-processing: they read datasets and never import the
+simulator (``tests/test_pipeline.py`` checks this); validation receives Scene
+objects built by :mod:`confined_rod.pipeline`.
+"""
+from __future__ import annotations
+
+import functools
+import importlib
+import pkgutil
+from pathlib import Path
+from types import ModuleType
+
+from ...errors import ConfigError
+
+HERE = Path(__file__).resolve().parent
+
+
+def kinds() -> list[str]:
+    """Every figure kind: the modules of this package whose names do not start with '_'."""
+    return list(_kinds())
+
+
+@functools.cache
+def _kinds() -> tuple[str, ...]:
+    """The kinds, listed once per process (a DAG build asks for a kind thousands of times)."""
+    return tuple(sorted(m.name for m in pkgutil.iter_modules([str(HERE)]) if not m.name.startswith("_")))
+
+
+def get(kind: str) -> ModuleType:
+    if kind not in _kinds():
+        raise ConfigError(f"figure kind {kind!r} is not one of {', '.join(kinds())}")
+    return importlib.import_module(f"{__name__}.{kind}")
+
+
+def module_path(kind: str) -> Path:
+    return HERE / f"{kind}.py"
+
+
+def source(kind: str) -> str:
+    return getattr(get(kind), "SOURCE", "simulate")
+
+
+def varied(kind: str, fig_cfg) -> tuple[str, ...]:
+    fn = getattr(get(kind), "varied", None)
+    return tuple(fn(fig_cfg)) if fn else ()
+
+
+def origin(fig_cfg) -> str:
+    """Where a figure comes from, for its title and caption: '(paper Fig. N)', or
+    '(not in the paper)' for the figures this package adds (convergence, benchmarks, maps)."""
+    n = fig_cfg.get("paper_figure")
+    return f"(paper Fig. {n})" if n is not None else "(not in the paper)"

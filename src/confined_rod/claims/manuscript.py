@@ -1,0 +1,784 @@
+"""The reproduction manuscript's generated parts: numbers, claims table, figures.
+
+Everything the text of ``paper/reproduction.tex`` quotes comes from here, computed from the
+datasets of the build (``results/paper/*.tex``), never typed:
+
+* ``numbers.tex``: ``\\ours{id}``, ``\\paperval{id}``, ``\\verdict{id}`` for every claim,
+  ``\\val{key}`` for the other numbers (counts, convergence verdicts, provenance);
+  an undefined key stops LaTeX with an error instead of printing nothing;
+* ``claims_table.tex``: one row per claim (long table);
+* ``figures.tex``: one float per figure of the config, its caption ending with its
+  provenance (config, git commit, the parameters of its scenes).
+
+``numbers.json`` holds, for every macro, the text it must produce in the PDF;
+``tools/check_paper.py`` compares it with ``pdftotext`` of the built PDF.
+Post-processing: reads datasets only.
+"""
+from __future__ import annotations
+
+import json
+import re
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+import xarray as xr
+
+from .verdicts import VERDICTS, Verdict, fmt
+
+# LaTeX special characters in plain text
+_TEX = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
+        "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "|": r"\textbar{}",
+        "<": r"\textless{}", ">": r"\textgreater{}"}
+
+
+def tex_escape(text: str) -> str:
+    """Plain ASCII text -> LaTeX text (refuses what pdflatex could not typeset)."""
+    bad = sorted({ch for ch in text if ord(ch) > 127})
+    if bad:
+        raise ValueError(f"non-ASCII characters {bad} in generated text {text[:60]!r}")
+    return "".join(_TEX.get(ch, ch) for ch in text)
+
+
+_NUMBER = re.compile(r"^(-?)(\d[\d,]*\.?\d*)(?:e([+-]?\d+))?$")
+
+
+def is_number(text: str) -> bool:
+    return bool(_NUMBER.match(text))
+
+
+def tex_value(text: str) -> tuple[str, str]:
+    """A value as LaTeX and as the text pdftotext gives back (minus sign and times as
+    the ASCII '-' and 'x' after normalize()). Numbers get a real minus sign and x10^n."""
+    m = _NUMBER.match(text)
+    if not m:
+        return tex_escape(text), text
+    sign, mant, exp = m.groups()
+    tex = (r"\ensuremath{-}" if sign else "") + mant
+    plain = sign + mant
+    if exp is not None:
+        e = int(exp)
+        tex += rf"\ensuremath{{\times10^{{{e}}}}}"
+        plain += f"x10{e}"
+    return tex, plain
+
+
+def normalize(text: str) -> str:
+    """What the PDF check compares: pdftotext's output without spaces, with the minus sign
+    and the times sign as ASCII, hyphenation at line ends undone, and without underscores
+    (pdflatex draws \\_ as a rule, which pdftotext does not return)."""
+    for char, ascii_ in (("\u2212", "-"), ("\u00b1", "+-"), ("\u00d7", "x"), ("\u02c6", "^"), ("\ufb01", "fi"),
+                         ("\ufb02", "fl")):
+        text = text.replace(char, ascii_)
+    text = re.sub(r"-\n", "", text)
+    return re.sub(r"\s+", "", text).replace("_", "")
+
+
+# --- captions: plain text -> LaTeX ------------------------------------------------------------
+#
+# Captions are written as plain ASCII text by each figure kind's caption() (and the pipeline's
+# parameter list). caption_tex() typesets the notation they use and escapes everything else as
+# tex_escape() does, so an unforeseen construct prints as text instead of breaking the build.
+# The recognised notation (tests/test_caption_tex.py has an example of each):
+#   symbols with subscripts   F_z, L_z, k_fr, k_ph, k_w, s_h, L_half, beta_ph -> F_{z}, k_{\mathrm{fr}}, ...
+#                             (single-letter subscripts x, y, z, i, j, n and digits italic, others roman)
+#   letter + digit            l0, l0', q0, F0 -> l_{0}, l_{0}', q_{0}, F_{0}
+#   single-letter variables   s, x, y, z, g, c, f, L, R, C, F, K, N (A unless it starts a sentence)
+#   EI, 2EI, 4R^2             coefficients written against their symbol
+#   exponents                 R^2, x^-1, (..)^c, x^(1/2) -> R^{2}, x^{-1}, (..)^{c}, x^{1/2}
+#   functions                 F(L), f(0), |F_z(s)|, ln|F_z|, sqrt(1 - R^2 w^2), sqrt 3
+#   derivatives               dphi/ds, dL_z/dF, d(1/|F_z|)/ds -> \mathrm{d}\phi/\mathrm{d}s, ...
+#   Greek words               pi, phi, omega, theta, ... (also with subscripts: beta_ph)
+#   operators                 = + - / < > <= >= -> +- ~ -> \leq \geq \to \pm \sim (+ and - when spaced)
+#   numbers                   1e-05 -> 10^{-5}, 2.5e-3 -> 2.5\times10^{-3}, 4x -> 4\times
+#   units                     0.25 EI/R^2, 24 R -> a thin space between a number and its unit
+#   ranges                    seeds 0-4, (a)-(c) -> en dash (text)
+#   coordinate planes         x-z -> $x$--$z$
+#   identifiers and files     planar_then_3d, fig8_escape, confined_rod.analysis.regions, docs/model.md -> \texttt{...}
+#   quotes                    'straight', "word" -> `straight', ``word''
+# A maximal run of these joined by operators, spaces or nothing (2EI) is one $...$; a run that
+# is a plain number, or a panel label (a), stays text.
+
+_GREEK = ("alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "kappa", "lambda", "mu", "nu",
+          "xi", "pi", "rho", "sigma", "tau", "phi", "chi", "psi", "omega",
+          "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Phi", "Psi", "Omega")
+_GREEK_RE = "|".join(sorted(_GREEK, key=len, reverse=True))
+_SUB = r"[A-Za-z0-9]+"
+_END = r"(?![A-Za-z0-9_])"                     # an atom ends where a word would go on
+_RE = {name: re.compile(pattern) for name, pattern in {
+    "deriv": rf"d({_GREEK_RE}|[A-Za-z](?:_{_SUB})?)/d({_GREEK_RE}|[A-Za-z]){_END}",
+    "greek": rf"({_GREEK_RE})(?:_({_SUB}))?{_END}",
+    "func": r"(sqrt|ln|log|exp|sin|cos|tan)(?=[(|]| (?=[A-Za-z0-9(|]))",
+    "EI": rf"EI{_END}",
+    "sub": rf"([A-Za-z])_({_SUB}){_END}",
+    "digit": rf"([lqFfsLzk])(\d){_END}",
+    "var": r"([sxyzgcfLRCFKN])(?![A-Za-z0-9_'])|(A)(?![A-Za-z0-9_']| [a-z])",
+    "letter_exp": r"([A-Za-z])(?=\^)",
+    "number": r"(\d+(?:\.\d+)?)(?:e([+-]?\d{1,3}))?(?![\d.]\d)",
+    "times": rf"x{_END}",
+    "binop": r" *(<=|>=|->|\+-|=|<|>|~|/) *| (\+|-|\*) ",
+    "prefix": r"(<=|>=|->|\+-|=|<|>|~|-|\+) ?",
+    "exponent": r"\^(?:(-?\d+(?:\.\d+)?|-?[A-Za-z](?![A-Za-z0-9_]))|(-?)(?=\())",
+    "panel": r"\([a-h]\)(?:-\([a-h]\))?",
+    "range": r"(\d+(?:\.\d+)?)-(\d+(?:\.\d+)?)(?![\w.])",
+    "plane": rf"([xyz])-([xyz]){_END}",
+    "path": r"(?:[A-Za-z0-9_.-]+/)+[A-Za-z0-9_.-]+\.(?:md|py|nc|yaml|yml|csv|tex|txt|pdf|png|json|smk)(?![A-Za-z0-9])",
+    "ident": r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)+(?:\.[A-Za-z_][A-Za-z0-9_]*)*(?![A-Za-z0-9])",
+    "word": r"[A-Za-z0-9]+",
+}.items()}
+_OPS = {"<=": r"\leq", ">=": r"\geq", "->": r"\to", "+-": r"\pm", "~": r"\sim", "*": r"\cdot", "=": "=", "<": "<",
+        ">": ">", "/": "/", "+": "+", "-": "-"}
+_ITALIC_SUB = set("xyzijn0123456789")
+
+
+def _sub_tex(sub: str) -> str:
+    return sub if len(sub) == 1 and sub in _ITALIC_SUB or sub.isdigit() else rf"\mathrm{{{sub}}}"
+
+
+def _prefix_tex(op: str) -> str:
+    """An operator before its operand: -0.9, \\pm R, = 0.25."""
+    return _OPS[op] if op in ("-", "+") else _OPS[op] + " "
+
+
+def _number_tex(mant: str, exp: str | None) -> str:
+    if exp is None:
+        return mant
+    e = int(exp)
+    return f"10^{{{e}}}" if mant == "1" else rf"{mant}\times10^{{{e}}}"
+
+
+class _Expr:
+    """A parsed formula: its LaTeX and whether it is more than a plain number."""
+
+    def __init__(self, tex: str, math: bool, end: int):
+        self.tex, self.math, self.end = tex, math, end
+
+
+class _CaptionParser:
+    def __init__(self, text: str):
+        self.s = text
+
+    def match(self, name: str, i: int):
+        return _RE[name].match(self.s, i)
+
+    # -- formulas ---------------------------------------------------------------------------
+    def atom(self, i: int, after_number: bool = False):
+        """One operand at i: (tex, end, kind, strong) or None. kind: 'number', 'symbol' (may take
+        an argument and a prime), 'group'."""
+        s = self.s
+        if i >= len(s):
+            return None
+        if not after_number:
+            if s[i] == "(":
+                inner = self.expr(i + 1, stop=")")
+                if inner is not None and inner.end < len(s) and s[inner.end] == ")":
+                    return "(" + inner.tex + ")", inner.end + 1, "group", True
+                return None
+            if s[i] == "|":
+                inner = self.expr(i + 1, stop="|")
+                if inner is not None and inner.end < len(s) and s[inner.end] == "|":
+                    return "|" + inner.tex + "|", inner.end + 1, "group", True
+                return None
+            if s[i] == "d" and s.startswith("d(", i):     # d(1/|F_z|)/ds
+                group = self.atom(i + 1)
+                if group is not None:
+                    m = re.compile(rf"/d({_GREEK_RE}|[A-Za-z]){_END}").match(s, group[1])
+                    if m:
+                        var = "\\" + m.group(1) if m.group(1) in _GREEK else m.group(1)
+                        return rf"\mathrm{{d}}{group[0]}/\mathrm{{d}}{var}", m.end(), "symbol", True
+            m = self.match("deriv", i)
+            if m:
+                f, v = m.groups()
+                f = self._symbol(f)
+                v = "\\" + v if v in _GREEK else v
+                return rf"\mathrm{{d}}{f}/\mathrm{{d}}{v}", m.end(), "symbol", True
+            m = self.match("number", i)
+            if m:
+                if not m.group(2) and self.match("times", m.end()):
+                    return m.group(1) + r"\times", m.end() + 1, "number", True
+                return _number_tex(*m.groups()), m.end(), "number", m.group(2) is not None
+        m = self.match("func", i)
+        if m:
+            name = m.group(1)
+            j = m.end() + (1 if s[m.end()] == " " else 0)
+            arg = self.term(j)
+            if arg is None:
+                return None
+            tex, end = arg
+            if name == "sqrt":
+                if tex.startswith("(") and tex.endswith(")") and self._balanced(tex[1:-1]):
+                    tex = tex[1:-1]
+                return rf"\sqrt{{{tex}}}", end, "group", True
+            return rf"\{name}" + ("" if tex[0] in "(|" else " ") + tex, end, "group", True
+        m = self.match("EI", i)
+        if m:
+            return "EI", m.end(), "symbol", True
+        for name in ("greek", "sub", "digit"):
+            m = self.match(name, i)
+            if m:
+                return self._symbol(m.group(0)), m.end(), "symbol", True
+        m = self.match("var", i)
+        if m:
+            return m.group(1) or m.group(2), m.end(), "symbol", True
+        m = self.match("letter_exp", i)
+        if m:
+            return m.group(1), m.end(), "symbol", True
+        return None
+
+    @staticmethod
+    def _balanced(tex: str) -> bool:
+        depth = 0
+        for ch in tex:
+            depth += {"(": 1, ")": -1}.get(ch, 0)
+            if depth < 0:
+                return False
+        return depth == 0
+
+    @staticmethod
+    def _symbol(word: str) -> str:
+        m = _RE["greek"].fullmatch(word)
+        if m:
+            base, sub = "\\" + m.group(1), m.group(2)
+        elif "_" in word:
+            base, sub = word.split("_", 1)
+        elif len(word) == 2 and word[1].isdigit():
+            base, sub = word[0], word[1]
+        else:
+            return word
+        return base if sub is None else f"{base}_{{{_sub_tex(sub)}}}"
+
+    def term(self, i: int, after_number: bool = False):
+        """An operand with its postfixes (argument, prime, exponent): (tex, end) or None."""
+        a = self.atom(i, after_number)
+        if a is None:
+            return None
+        tex, j, kind, strong = a
+        self._strong = self._strong or strong
+        s = self.s
+        while j < len(s):
+            if kind == "symbol" and s[j] == "(":          # F(L), F_z(0)
+                arg = self.atom(j)
+                if arg is None or arg[2] != "group":
+                    break
+                tex, j = tex + arg[0], arg[1]
+                continue
+            if kind == "symbol" and s[j] == "'" and not s[j + 1:j + 2].isalpha():   # l0'
+                tex, j = tex + "'", j + 1
+                continue
+            m = self.match("exponent", j)
+            if m:
+                if m.group(1):
+                    tex, j = tex + f"^{{{m.group(1)}}}", m.end()
+                else:                                       # ^(1/2), ^-(..)
+                    grp = self.atom(m.end())
+                    if grp is None or grp[2] != "group" or not grp[0].startswith("("):
+                        break
+                    tex, j = tex + f"^{{{m.group(2)}{grp[0][1:-1]}}}", grp[1]
+                self._strong = True
+                continue
+            break
+        return tex, j
+
+    def expr(self, i: int, stop: str | None = None):
+        """The longest formula starting at i (None if there is none). Inside a group (stop is
+        ')' or '|') it must reach the closing character."""
+        s = self.s
+        saved = getattr(self, "_strong", False)
+        self._strong = False
+        parts: list[str] = []
+        m = self.match("prefix", i)
+        if m and (m.group(1) in _OPS):
+            first = self.term(m.end())
+            if first is None:
+                if stop is not None or m.group(1) in ("-", "+"):
+                    self._strong = saved
+                    return None
+                self._strong = saved
+                return _Expr(_OPS[m.group(1)], True, i + len(m.group(1)))
+            parts += [_prefix_tex(m.group(1)), first[0]]
+            self._strong = True
+            j = first[1]
+        else:
+            first = self.term(i)
+            if first is None:
+                self._strong = saved
+                return None
+            parts.append(first[0])
+            j = first[1]
+        last_number = self._is_number(parts[-1])
+        n_terms = 1
+        while j < len(s):
+            if stop is not None and s[j] == stop:
+                break
+            m = self.match("binop", j)
+            if m:
+                op = m.group(1) or m.group(2)
+                nxt = self.match("prefix", m.end())
+                k = m.end()
+                unary = ""
+                if nxt and nxt.group(1) in ("-", "+-") and op != "/" and not nxt.group(0).endswith(" "):
+                    unary, k = _prefix_tex(nxt.group(1)), nxt.end()
+                t = self.term(k)
+                if t is None:
+                    break
+                parts += [f" {_OPS[op]} " if op != "/" else "/", unary + t[0]]
+                self._strong = True
+                j, n_terms = t[1], n_terms + 1
+                last_number = self._is_number(t[0]) and not unary
+                continue
+            if last_number:                                # 2EI, 4R^2
+                t = self.term(j, after_number=True)
+                if t is not None:
+                    parts.append(t[0])
+                    self._strong = True
+                    j, n_terms, last_number = t[1], n_terms + 1, False
+                    continue
+            if s[j] == " ":                                 # k_fr R L, 0.25 EI/R^2
+                k = j + 1
+                t = self.term(k) if self._may_follow(k) else None
+                if t is not None:
+                    parts += [r"\,", t[0]]
+                    self._strong = True
+                    j, n_terms, last_number = t[1], n_terms + 1, self._is_number(t[0])
+                    continue
+            break
+        if stop is None and j < len(s) and re.match(r"[A-Za-z0-9_]", s[j]):
+            self._strong = saved                # a formula cannot end inside a word (919d2e5...)
+            return None
+        strong = self._strong
+        self._strong = saved
+        return _Expr("".join(parts), strong, j)
+
+    def _may_follow(self, k: int) -> bool:
+        """After a space, an operand may follow unless it opens a text bracket or is a panel label."""
+        return k < len(self.s) and not self.match("panel", k)
+
+    @staticmethod
+    def _is_number(tex: str) -> bool:
+        return bool(re.fullmatch(r"\d+(?:\.\d+)?", tex))
+
+    # -- the caption ----------------------------------------------------------------------------
+    def convert(self) -> str:
+        s, out, i = self.s, [], 0
+        while i < len(s):
+            prev = s[i - 1] if i else " "
+            at_word_start = not (prev.isalnum() or prev in "_'.")
+            m = self.match("panel", i)
+            if m:
+                out.append(tex_escape(m.group(0)).replace(")-(", ")--("))
+                i = m.end()
+                continue
+            if at_word_start:
+                m = self.match("path", i) or self.match("ident", i)
+                if m:                                   # unless it is a symbol: k_fr, beta_ph, dL_z/dF
+                    self._strong = False
+                    e = self.expr(i)
+                    if e is None or not e.math or e.end < m.end():
+                        out.append(r"\texttt{" + tex_escape(m.group(0)) + "}")
+                        i = m.end()
+                        continue
+                m = self.match("range", i)
+                if m:
+                    out.append(f"{m.group(1)}--{m.group(2)}")
+                    i = m.end()
+                    continue
+                m = self.match("plane", i)
+                if m:
+                    out.append(f"${m.group(1)}$--${m.group(2)}$")
+                    i = m.end()
+                    continue
+                self._strong = False
+                e = self.expr(i)
+                if e is not None and e.end > i:
+                    out.append(f"${e.tex}$" if e.math else tex_escape(s[i:e.end]))
+                    i = e.end
+                    continue
+                if s[i] == "'" and i + 1 < len(s) and not s[i + 1].isspace():
+                    out.append("`")
+                    i += 1
+                    continue
+            if s[i] == '"':
+                out.append("``" if at_word_start else "''")
+                i += 1
+                continue
+            m = self.match("word", i)
+            j = m.end() if m else i + 1
+            out.append(tex_escape(s[i:j]))
+            i = j
+        return "".join(out)
+
+
+def caption_tex(text: str) -> str:
+    """A plain-text caption as LaTeX: its formulas in math mode, everything else escaped as by
+    tex_escape (refuses non-ASCII text like tex_escape)."""
+    tex_escape(text)                            # the same refusal of non-ASCII characters
+    return _CaptionParser(text).convert()
+
+
+def _key(name: str) -> str:
+    if not re.fullmatch(r"[A-Za-z0-9_.:-]+", name):
+        raise ValueError(f"macro key {name!r}: letters, digits, _ . : - only")
+    return name
+
+
+class Macros:
+    """Generated macros: key -> (LaTeX, expected plain text)."""
+
+    def __init__(self):
+        self.items: dict[str, tuple[str, str, str]] = {}
+        self.raw: list[str] = []      # further definitions (tables, figure references)
+
+    def add(self, family: str, key: str, text: str) -> None:
+        tex, plain = tex_value(str(text))
+        self.items[f"{family}@{_key(key)}"] = (family, tex, plain)
+
+    def add_text(self, family: str, key: str, text: str) -> None:
+        """A sentence (e.g. a verdict with its numbers): as add, with every ' +- ' typeset as a
+        plus-minus sign."""
+        tex, plain = tex_value(str(text))
+        self.items[f"{family}@{_key(key)}"] = (family, tex.replace(" +- ", r" \ensuremath{\pm} "), plain)
+
+    def add_list(self, family: str, key: str, values: list[tuple[float, float]], spec: str = ".3g") -> None:
+        """A list of values mean +- s.d. (no s.d. where it is 0), typeset with a real plus-minus
+        sign; pdftotext gives it back as the +- of normalize()."""
+        tex, plain = [], []
+        for mean, sd in values:
+            t, p = tex_value(format(mean, spec))
+            if sd > 0:
+                t2, p2 = tex_value(format(sd, ".2g"))
+                t, p = rf"{t}\ensuremath{{\pm}}{t2}", f"{p}+-{p2}"
+            tex.append(t)
+            plain.append(p)
+        self.items[f"{family}@{_key(key)}"] = (family, ", ".join(tex) or "none", ", ".join(plain) or "none")
+
+    def tex(self) -> str:
+        lines = ["% GENERATED by confined_rod.claims.manuscript from the datasets of this build. Do not edit.",
+                 r"\newcommand{\crget}[2]{\ifcsname cr@#1@#2\endcsname\csname cr@#1@#2\endcsname"
+                 r"\else\errmessage{generated value #1 '#2' is not defined by this build}\fi}",
+                 r"\newcommand{\ours}[1]{\crget{ours}{#1}}",
+                 r"\newcommand{\paperval}[1]{\crget{paper}{#1}}",
+                 r"\newcommand{\verdict}[1]{\crget{verdict}{#1}}",
+                 r"\newcommand{\val}[1]{\crget{val}{#1}}"]
+        for name, (family, tex, _) in sorted(self.items.items()):
+            key = name.split("@", 1)[1]
+            lines.append(rf"\expandafter\def\csname cr@{family}@{key}\endcsname{{{tex}}}")
+        return "\n".join(lines + self.raw) + "\n"
+
+    def expected(self) -> dict[str, str]:
+        return {name: plain for name, (_, _, plain) in self.items.items()}
+
+
+def claim_macros(verdicts: Iterable[Verdict], macros: Macros) -> None:
+    verdicts = list(verdicts)
+    for v in verdicts:
+        macros.add("ours", v.id, v.ours)
+        macros.add("paper", v.id, v.paper)
+        macros.add("verdict", v.id, v.verdict)
+    from .verdicts import ours_only
+
+    # the paper's claims are counted apart from the findings of our own (where: "our finding")
+    paper_claims = [v for v in verdicts if not ours_only(v)]
+    macros.add("val", "n_claims", str(len(paper_claims)))
+    macros.add("val", "n_own_claims", str(len(verdicts) - len(paper_claims)))
+    for verdict in VERDICTS:
+        macros.add("val", "n_" + verdict.replace(" ", "_"), str(sum(v.verdict == verdict for v in paper_claims)))
+
+
+def finding_macros(verdicts: Iterable[Verdict], titles: Mapping[str, str], macros: Macros) -> None:
+    """The independent findings about the paper's claims (claims that test one discrepancy share
+    one): their number by verdict (\\val{n_findings_refuted}, ...) and the titled ones by verdict
+    as text (\\val{findings_refuted}: the sentences of the abstract come from the verdicts); the
+    findings of our own apart (\\val{n_own_findings}, ..._reproduced, \\val{own_findings_open})."""
+    from .verdicts import split_findings
+
+    found, own = split_findings(list(verdicts))
+    macros.add("val", "n_findings", str(len(found)))
+    for verdict in VERDICTS:
+        key = verdict.replace(" ", "_")
+        macros.add("val", "n_findings_" + key, str(sum(f[0] == verdict for f in found.values())))
+        named = [titles[n] for n, (v, _) in found.items() if v == verdict and n in titles]
+        macros.add("val", "findings_" + key, "; ".join(named) if named else "none")
+    macros.add("val", "n_own_findings", str(len(own)))
+    macros.add("val", "n_own_findings_reproduced", str(sum(f[0] == "reproduced" for f in own.values())))
+    macros.add("val", "own_findings_open", "; ".join(titles.get(n, n) for n, f in own.items()
+                                                     if f[0] != "reproduced") or "none")
+
+
+#: longest convergence verdict in the table (a paired ladder's lists every observable's numbers)
+STATUS_CHARS = 130
+SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
+
+
+def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
+    """\\val{<figure>.<variant>.fraction} (mean +- s.d. of F(L)/F(0)), .lower_length, .decay_ratio,
+    .n_reversals, \\val{<figure>.ramp_change} (the finest ramp step's paired change of F(L) over the seeds
+    that keep their final state, %; only with two or more of them), .ramp_state_changes (the seeds that
+    changed it) and .ramp_mean_change (the change of the ensemble mean, %)."""
+    two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_ratio", "K_ratio", "K_ratio_from_torque",
+           "lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
+    for i, v in enumerate(ds.variant.values):
+        for key in ("lower_length", "tip_length", "n_reversals", "lower_torque", "bulk_torque_max") + two:
+            if f"{key}_mean" not in ds:
+                continue
+            value = [(float(ds[f"{key}_mean"].values[i]), float(ds[f"{key}_std"].values[i]))]
+            macros.add_list("val", f"{name}.{v}.{key}", value, ".2f" if key in two else ".3g")
+    for key in ("formation_settled_quarter", "formation_settled_end"):
+        if key in ds.attrs:
+            macros.add("val", f"{name}.{key}", f"{float(ds.attrs[key]):.2g}")
+    if "time" in ds.coords and "formation_F_abs" in ds:
+        macros.add("val", f"{name}.formation_final", f"{float(ds['time'].values[-1]):.2g}")
+    if "torque_closure_member" in ds:
+        free = (ds["variant_ends"].values == "free")[:, None] & (ds["has_member"].values == 1)
+        worst = float(ds["torque_closure_member"].values[free].max()) if free.any() else 0.0
+        macros.add("val", f"{name}.torque_closure", f"{worst:.1e}")
+    if "ramp_ladder_paired_change" in ds.attrs:
+        change = np.atleast_1d(ds.attrs["ramp_ladder_paired_change"])[-1]
+        sem = np.atleast_1d(ds.attrs["ramp_ladder_paired_sem"])[-1]
+        steps = np.atleast_1d(ds.attrs["ramp_ladder_steps"])[-2:]
+        kept = int(np.atleast_1d(ds.attrs["ramp_ladder_same_state"])[-1])
+        if kept >= 2:
+            macros.add_list("val", f"{name}.ramp_change", [(100 * float(change), 100 * float(sem))], ".2f")
+        macros.add("val", f"{name}.ramp_steps", f"{steps[0]:g} to {steps[1]:g}")
+        moved = int(np.atleast_1d(ds.attrs["ramp_ladder_state_changes"])[-1])
+        macros.add("val", f"{name}.ramp_state_changes", f"{moved} of {moved + kept}")
+        macros.add("val", f"{name}.ramp_mean_change",
+                   f"{100 * float(np.atleast_1d(ds.attrs['ramp_ladder_mean_change'])[-1]):+.1f}")
+
+
+def local_law_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
+    """\\val{<figure>.decay_ratio}: the bulk decay rates over k_fr R/(4EI) of a figure's panels or
+    lengths (ensemble means where there are seeds), as a list, each +- the larger of the seed
+    spread and the window effect (as in the claims)."""
+    if "decay_ratio" not in ds:
+        return
+    ok = ds["has_bulk"].values == 1
+    if "bulk_decay_rate_mean" in ds:
+        # the uncertainty the claims use: the larger of the seed spread and the window effect
+        r = ds["bulk_decay_rate_mean"].values / ds["decay_rate_model"].values
+        sd = np.maximum(ds["bulk_decay_rate_std"].values, ds["bulk_decay_rate_err"].values) / \
+            ds["decay_rate_model"].values
+    else:
+        r, sd = ds["decay_ratio"].values, ds["bulk_decay_rate_err"].values / ds["decay_rate_model"].values
+    macros.add_list("val", f"{name}.decay_ratio", [(float(a), float(b)) for a, b, k in zip(r, sd, ok) if k], ".2f")
+
+
+def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
+    """Numbers the text quotes beyond the claims: the parameters every dataset's scenes
+    share (\\val{<figure>.<parameter>}), the convergence table (verdicts and distances of
+    the publication settings), the build's git commits."""
+    rows = []
+    for name, ds in sorted(datasets.items()):
+        for attr in SCENE_ATTRS:                # the parameters its scenes share, e.g. \val{fig7_tiny_force.load}
+            value = np.asarray(ds.attrs.get(attr, [])).ravel()
+            if value.size == 1 and np.issubdtype(value.dtype, np.number):
+                macros.add("val", f"{name}.{attr}", fmt(float(value[0])))
+        if ds.attrs.get("kind") == "protocol_comparison":
+            protocol_macros(name, ds, macros)
+        if ds.attrs.get("kind") in ("force_profile", "transmitted_force"):
+            local_law_macros(name, ds, macros)
+        if ds.attrs.get("kind") != "convergence":
+            continue
+        a = ds.attrs
+        macros.add("val", f"{name}.status", str(a["status"]))
+        macros.add_text("val", f"{name}.verdict", short_status(str(a["status"])))
+        if "state_changed_member" in ds:
+            # a paired ladder: the seeds that end in another state than at the publication rung
+            moved = ds["state_changed_member"].values[-1][ds["has_member"].values[-1] == 1]
+            macros.add("val", f"{name}.state_changes", f"{int(moved.sum())} of {moved.size}")
+        macros.add("val", f"{name}.distance_percent", format(100 * float(a.get("worst_distance", 0.0)), ".2g"))
+        cells = [tex_escape(name), tex_escape(str(a["parameter"]))]
+        cells += [tex_value(fmt(float(x)))[0] for x in (a["L"], a["load"], a["k_fr"], a["publication_value"],
+                                                        100 * float(a["tolerance"]))]
+        cells.append(rf"\val{{{name}.distance_percent}}; \val{{{name}.verdict}}")
+        rows.append(" & ".join(cells) + r" \\")
+    table = ""
+    if rows:
+        table = (r"\begin{table*}[t]\caption{Convergence checks of the numerical settings (rule "
+                 r"\texttt{convergence\_check}): each ladder varies one parameter about its publication value; the "
+                 r"distance of the publication value from the limit (the Richardson limit; for seed ensembles the "
+                 r"finest rung's mean; for the ramp ladders the mean change seed by seed) is the worst over "
+                 r"$|F_z(L)|$, $L_z$ and the pitch; a verdict cut short is given in full in "
+                 r"\texttt{results/checks}.}\label{tab:convergence}" "\n" r"\small" "\n"
+                 r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
+                 r"ladder & parameter & $L/R$ & load & $k_{fr}$ & value & tol.~(\%) & off the limit (\%), verdict \\"
+                 r" \hline" "\n" + "\n".join(rows)
+                 + "\n" r"\hline\end{tabular}\end{table*}")
+    macros.raw.append(r"\newcommand{\convergencetable}{" + table + "}")
+    commits = sorted({str(ds.attrs.get("git_commit", "unknown")) for ds in datasets.values()})
+    macros.add("val", "git_commit", ", ".join(c[:12] for c in commits))
+
+
+def short_status(status: str, limit: int = STATUS_CHARS) -> str:
+    """A convergence verdict for the table: as it is up to `limit` characters, else its
+    headlines (figures.convergence.brief_status), else cut at the last word boundary before
+    the limit (the table's caption points to the full text in results/checks/<figure>.txt)."""
+    from ..analysis.figures.convergence import brief_status
+
+    for text in (status, brief_status(status)):
+        if len(text) <= limit:
+            return text
+    return status[:status.rfind(" ", 0, limit)].rstrip(",;:") + " ..."
+
+
+def claims_table(verdicts: Iterable[Verdict]) -> str:
+    """A long table, one row per claim: label C<n>, where, claim, paper, ours, verdict."""
+    rows = []
+    for i, v in enumerate(verdicts, 1):
+        ours = tex_value(v.ours)[0]
+        paper = tex_value(v.paper)[0]
+        verdict = tex_escape(v.verdict)
+        rows.append(rf"C{i} & {tex_escape(v.where)} & {caption_tex(v.claim)} & {paper} & {ours} & "
+                    rf"\textbf{{{verdict}}} \\")
+    col = r">{\raggedright\arraybackslash}p"
+    head = (rf"\begin{{longtable}}{{@{{}}{col}{{0.035\linewidth}}{col}{{0.12\linewidth}}{col}{{0.39\linewidth}}"
+            rf"{col}{{0.13\linewidth}}{col}{{0.13\linewidth}}{col}{{0.1\linewidth}}@{{}}}}" "\n"
+            r"\caption{Every checkable statement of the original paper, with the paper's value, ours and the "
+            r"computed verdict (rule \texttt{claims}: \texttt{results/claims.csv}, with the evidence and the "
+            r"tolerance of each). The readings behind ``reproduced under reading'' are in Table~\ref{tab:readings}.}"
+            r"\label{tab:claims}\\" "\n"
+            r"\hline & where & claim & paper & ours & verdict \\ \hline\endfirsthead" "\n"
+            r"\hline & where & claim & paper & ours & verdict \\ \hline\endhead" "\n"
+            r"\hline\endfoot")
+    return "% GENERATED by confined_rod.claims.manuscript. Do not edit.\n" + head + "\n" + "\n".join(rows) + \
+        "\n\\end{longtable}\n"
+
+
+def readings_table(verdicts: Iterable[Verdict]) -> str:
+    rows = [rf"C{i} & {tex_escape(v.reading)} \\" for i, v in enumerate(verdicts, 1) if v.reading]
+    return ("% GENERATED by confined_rod.claims.manuscript. Do not edit.\n"
+            r"\begin{longtable}{@{}p{0.06\linewidth}p{0.9\linewidth}@{}}" "\n"
+            r"\caption{The readings under which claims are tested, where the original leaves something open; a "
+            r"claim that holds under its reading is ``reproduced under reading''.}\label{tab:readings}\\" "\n"
+            r"\hline claim & reading \\ \hline\endfirsthead" "\n" r"\hline\endfoot" "\n"
+            + "\n".join(rows) + "\n\\end{longtable}\n")
+
+
+def provenance(figure: str, ds: xr.Dataset, config_name: str) -> str:
+    """One sentence of LaTeX: config, git commit, the dataset file (file names, commit and package
+    in typewriter type)."""
+    commit = str(ds.attrs.get("git_commit", "unknown"))[:12]
+
+    def tt(text: str) -> str:
+        return r"\texttt{" + tex_escape(text) + "}"
+    return (f"Provenance: config {tt(config_name)}, git commit {tt(commit)}, dataset "
+            f"{tt(f'results/datasets/{figure}.nc')} ({tt('confined_rod')} "
+            f"{tex_escape(str(ds.attrs.get('confined_rod_version', '?')))}).")
+
+
+#: REVTeX 4.2 (pre, twocolumn): \textwidth and \textheight in TeX points (tests/test_caption_tex.py
+#: checks them against pdflatex). A figure is included at its natural size, scaled down only if it
+#: is wider than \textwidth or taller than FIGURE_MAX_HEIGHT \textheight (figure_scale()).
+TEXTWIDTH_PT = 510.0
+TEXTHEIGHT_PT = 672.0
+FIGURE_MAX_HEIGHT = 0.62
+_BP_PER_PT = 72.0 / 72.27          # PDF (and matplotlib) points are big points, 1/72 in
+
+
+def figure_scale(width_bp: float, height_bp: float) -> float:
+    """The factor by which figures.tex prints a figure whose PDF is width_bp x height_bp big points."""
+    return min(1.0, TEXTWIDTH_PT * _BP_PER_PT / width_bp,
+               FIGURE_MAX_HEIGHT * TEXTHEIGHT_PT * _BP_PER_PT / height_bp)
+
+
+#: \crfigure{file}: the figure at its natural size, capped at \textwidth and at
+#: FIGURE_MAX_HEIGHT \textheight (keeping its aspect ratio); lengths of its own, since graphicx
+#: uses the scratch registers
+FIGURE_MACRO = "%\n".join([
+    r"\ifdefined\crfigwidth\else\newlength{\crfigwidth}\newlength{\crfigheight}\fi",
+    r"\providecommand{\crfigure}[1]{\begingroup\sbox0{\includegraphics{#1}}",
+    r"\setlength{\crfigwidth}{\wd0}\ifdim\crfigwidth>\textwidth\setlength{\crfigwidth}{\textwidth}\fi",
+    rf"\setlength{{\crfigheight}}{{\ht0}}\ifdim\crfigheight>{FIGURE_MAX_HEIGHT}\textheight",
+    rf"\setlength{{\crfigheight}}{{{FIGURE_MAX_HEIGHT}\textheight}}\fi",
+    r"\includegraphics[width=\crfigwidth,height=\crfigheight,keepaspectratio]{#1}\endgroup}"]) + "%"
+
+
+def figures_tex(order: list[tuple[str, int | None]], captions: Mapping[str, str],
+                datasets: Mapping[str, xr.Dataset], config_name: str) -> str:
+    """One float per figure (paper figures first, in the paper's order), each with its caption
+    and provenance, labelled fig:<name>; and \\figref{name}, which names a figure of the
+    config or says that this config does not build it."""
+    out = ["% GENERATED by confined_rod.claims.manuscript. Do not edit.", FIGURE_MACRO]
+    for name, paper_figure in order:
+        cap = caption_tex(captions[name]) + " " + provenance(name, datasets[name], config_name)
+        out += [r"\begin{figure*}[p]", r"\centering", rf"\crfigure{{{name}.pdf}}",
+                rf"\caption{{{cap}}}", rf"\label{{fig:{name}}}", r"\end{figure*}", ""]
+    return "\n".join(out) + "\n"
+
+
+def figure_macros(order: list[tuple[str, int | None]], macros: Macros) -> None:
+    """\\figref{name}: 'Fig. n' of a figure this config builds, or a note that it does not."""
+    macros.raw.append(r"\newcommand{\figref}[1]{\ifcsname cr@fig@#1\endcsname Fig.~\ref{fig:#1}\else"
+                      r" (figure \texttt{\detokenize{#1}} is not built by this config)\fi}")
+    macros.raw += [rf"\expandafter\def\csname cr@fig@{_key(name)}\endcsname{{}}" for name, _ in order]
+
+
+def figure_order(config: Mapping[str, Any]) -> list[tuple[str, int | None]]:
+    """Paper figures in the paper's order, then the numerical checks in config order."""
+    figs = [(name, cfg.get("paper_figure")) for name, cfg in config["figures"].items()]
+    paper = sorted([f for f in figs if f[1]], key=lambda f: f[1])
+    return paper + [f for f in figs if not f[1]]
+
+
+def write_expected(macros: Macros, n_figures: int, verdicts: Iterable[Verdict]) -> str:
+    return json.dumps({"macros": macros.expected(), "n_figures": n_figures,
+                       "claims": [{"label": f"C{i}", "id": v.id, "verdict": v.verdict,
+                                   "ours": tex_value(v.ours)[1], "paper": tex_value(v.paper)[1]}
+                                  for i, v in enumerate(verdicts, 1)]}, indent=1)
+
+
+def verdicts_from_dataset(ds: xr.Dataset) -> list[Verdict]:
+    """The claims dataset (rule claims) back as verdicts."""
+    out = []
+    for i, cid in enumerate(ds.claim.values):
+        def text(name):
+            return str(ds[name].values[i])
+
+        def number(name):
+            return float(ds[name].values[i]) if int(ds["has_" + name].values[i]) else None
+
+        out.append(Verdict(str(cid), text("where"), text("statement"), text("paper"), number("paper_value"),
+                           text("ours"), number("ours_value"), text("tolerance"), text("verdict"),
+                           text("evidence"), text("reading"), text("note"),
+                           text("finding") if "finding" in ds else str(cid)))
+    return out
+
+
+TEX_HINT = ("the paper needs TeX: latexmk, pdflatex and REVTeX 4.2. On Debian/Ubuntu: "
+            "apt-get install latexmk texlive-publishers texlive-latex-recommended "
+            "(tools/setup.sh does this when run as root); every other target builds without it")
+
+
+def build_pdf(tex: str, sources: Iterable[str], figures: Iterable[str], output: str, timeout: float = 600) -> None:
+    """latexmk in a private build folder (the manuscript, its generated parts and the figure
+    PDFs copied in); fail on any LaTeX error or unresolved reference; move the PDF into place
+    only when it is complete."""
+    import os
+    import shutil
+    import subprocess
+    import tempfile
+    from pathlib import Path
+
+    for exe in ("latexmk", "pdflatex"):
+        if shutil.which(exe) is None:
+            raise RuntimeError(f"{exe} not found: {TEX_HINT}")
+    out = Path(output)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    name = Path(tex).stem
+    # the build folder lives outside results/, so a killed job leaves nothing half-written there
+    with tempfile.TemporaryDirectory(prefix=f"confined_rod_paper_{name}_") as build:
+        shutil.copy(tex, Path(build) / f"{name}.tex")
+        for f in list(sources) + [f for f in figures if f.endswith(".pdf")]:
+            shutil.copy(f, Path(build) / Path(f).name)
+        cmd = ["latexmk", "-pdf", "-interaction=nonstopmode", "-halt-on-error", "-file-line-error", f"{name}.tex"]
+        proc = subprocess.run(cmd, cwd=build, capture_output=True, text=True, timeout=timeout)
+        log = (Path(build) / f"{name}.log")
+        log_text = log.read_text(errors="replace") if log.exists() else ""
+        if proc.returncode != 0:
+            errors = [ln for ln in log_text.splitlines() if ln.startswith("!") or ".tex:" in ln]
+            raise RuntimeError(f"latexmk failed on {tex} (exit {proc.returncode}):\n" + "\n".join(errors[-20:])
+                               + "\n" + proc.stdout[-2000:])
+        unresolved = [ln for ln in log_text.splitlines()
+                      if re.search(r"(Reference|Citation) .* undefined|There were undefined references", ln)]
+        if unresolved:
+            raise RuntimeError(f"{tex}: unresolved references after latexmk:\n" + "\n".join(unresolved[:20]))
+        print(proc.stdout[-1500:])
+        os.replace(Path(build) / f"{name}.pdf", out)
