@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod import pipeline
+from confined_rod import claims, pipeline
 from confined_rod.claims import derivations
 from confined_rod.claims import manuscript as paper
-from confined_rod.claims import verdicts as claims
+from confined_rod.claims.measures import force_decay
 from confined_rod.errors import ConfigError
 
 from . import shapes
@@ -271,10 +271,10 @@ def test_an_ensemble_exponent_is_taken_over_the_seeds_whose_fit_determines_it():
                "fall_bulk_member": [[1.96, 2.16, 1.93, 2.59, 1.95]]}
     for k, v in members.items():
         ds[k] = (("panel", "member"), np.asarray(v, dtype=float))
-    w = claims._exponent_windows(ds, 0)
+    w = force_decay._exponent_windows(ds, 0)
     c, sd, why, count = w["bulk"]
     assert not why and c == pytest.approx(np.mean([-0.686, -0.794])) and count == " [2 of 5 seeds determined]"
-    assert claims._exponent_windows(ds, 0, fall_min=2.83)["bulk"][2].startswith("|F_z| falls only 1.93-2.59x")
+    assert force_decay._exponent_windows(ds, 0, fall_min=2.83)["bulk"][2].startswith("|F_z| falls only 1.93-2.59x")
     v = claims.evaluate_one({"id": "e", "where": "Fig. 4", "claim": "c", "paper": -0.882,
                              "test": {"method": "measure", "name": "exponents", "figures": ["f"], "tol": 0.05}},
                             claims.Evidence({"f": ds}))

@@ -232,9 +232,12 @@ def test_jamming_map_grid_expansion_is_idempotent_and_the_half_length_interpolat
 
 
 # -- ensembles of force profiles (Figs 4 and 7) -------------------------------------------------
-from confined_rod import Scene, theory
+from confined_rod import (  # noqa: E402
+    Scene,
+    claims,  # noqa: E402
+    theory,
+)
 from confined_rod.analysis.figures import force_profile  # noqa: E402
-from confined_rod.claims import verdicts as claims  # noqa: E402
 
 
 def _profile(seed, scale=1.0, contact=True, L=200.0, N=200, k_fr=0.8, load=0.25):

@@ -12,9 +12,8 @@ import pytest
 import xarray as xr
 import yaml
 
-from confined_rod import pipeline
+from confined_rod import claims, pipeline
 from confined_rod.analysis import evidence, postprocess
-from confined_rod.claims import verdicts as claims
 from confined_rod.io import netcdf_attr
 
 from . import shapes

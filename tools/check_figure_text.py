@@ -36,8 +36,8 @@ import matplotlib.text  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from confined_rod import pipeline  # noqa: E402
-from confined_rod.analysis import figures, plotting
-from confined_rod.claims import manuscript as paper
+from confined_rod.analysis import figures, plotting  # noqa: E402
+from confined_rod.claims import manuscript as paper  # noqa: E402
 
 MIN_PT = 7.0
 

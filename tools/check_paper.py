@@ -33,9 +33,9 @@ ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "results"
 sys.path.insert(0, str(ROOT / "src"))
 
+from confined_rod import claims as claims_mod  # noqa: E402
+from confined_rod.claims import fmt  # noqa: E402
 from confined_rod.claims import manuscript as paper  # noqa: E402
-from confined_rod.claims import verdicts as claims_mod  # noqa: E402
-from confined_rod.claims.verdicts import fmt  # noqa: E402
 
 MACRO = re.compile(r"\\(ours|paperval|verdict|val)\{([^}]*)\}")
 FAMILY = {"ours": "ours", "paperval": "paper", "verdict": "verdict", "val": "val"}

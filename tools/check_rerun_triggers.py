@@ -1,4 +1,6 @@
-"""Check what a code change re-runs: styling must not re-run simulations, physics must.
+"""Check what a code change re-runs: styling must not re-run simulations, physics must, and a new
+module re-runs what the part it lands in feeds (sim/: the simulations; analysis/: nothing until a
+kind imports it; claims/: the claims and the manuscript).
 
     python tools/check_rerun_triggers.py config/ci.yaml
 
@@ -25,36 +27,52 @@ SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 # (a figure kind's module holds its dataset builder and its plot: editing it re-runs that
 # kind's datasets and figures, never a simulation)
 PROBES = {
-    PKG / "plotting.py": ({"figure"}, {"simulate", "batch", "probe", "load_path", "postprocess"}),
-    PKG / "fits.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
-    PKG / "measure.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
-    PKG / "regions.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
-    PKG / "torque.py": ({"postprocess", "figure", "claims"}, {"simulate", "batch", "probe", "load_path"}),
-    PKG / "figures" / "force_profile.py": ({"postprocess", "figure"},
+    PKG / "analysis" / "plotting.py": ({"figure"}, {"simulate", "batch", "probe", "load_path", "postprocess"}),
+    PKG / "analysis" / "fits.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
+    PKG / "analysis" / "measure.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
+    PKG / "analysis" / "regions.py": ({"postprocess", "figure"}, {"simulate", "batch", "probe", "load_path"}),
+    PKG / "analysis" / "torque.py": ({"postprocess", "figure", "claims"},
+                                     {"simulate", "batch", "probe", "load_path"}),
+    PKG / "analysis" / "figures" / "force_profile.py": ({"postprocess", "figure"},
                                            {"simulate", "batch", "probe", "load_path", "convergence_check"}),
-    PKG / "figures" / "pitch_profile.py": ({"postprocess", "figure"},
+    PKG / "analysis" / "figures" / "pitch_profile.py": ({"postprocess", "figure"},
                                            {"simulate", "batch", "probe", "load_path", "convergence_check"}),
-    PKG / "figures" / "bifurcation.py": ({"postprocess", "figure"},
+    PKG / "analysis" / "figures" / "bifurcation.py": ({"postprocess", "figure"},
                                          {"simulate", "batch", "probe", "load_path", "convergence_check"}),
-    PKG / "figures" / "convergence.py": ({"postprocess", "convergence_check", "figure"},
+    PKG / "analysis" / "figures" / "convergence.py": ({"postprocess", "convergence_check", "figure"},
                                          {"simulate", "batch", "probe", "load_path"}),
     # a helper shared by kinds: side_strip, imported by the transition and escape kinds
-    PKG / "figures" / "helix_views.py": ({"postprocess", "figure"},
+    PKG / "analysis" / "figures" / "helix_views.py": ({"postprocess", "figure"},
                                          {"simulate", "batch", "probe", "load_path", "convergence_check"}),
-    PKG / "paths.py": ({"load_path"}, set()),
-    PKG / "runs.py": ({"simulate", "batch", "probe"}, set()),
+    PKG / "sim" / "load_paths.py": ({"load_path"}, set()),
+    PKG / "sim" / "runs.py": ({"simulate", "batch", "probe"}, set()),
     # the manuscript: its generated parts and the claims re-run, never a simulation or a dataset
-    PKG / "paper.py": ({"paper_sources", "paper"},
+    PKG / "claims" / "manuscript.py": ({"paper_sources", "paper"},
                        {"simulate", "batch", "probe", "load_path", "postprocess", "figure", "claims"}),
-    PKG / "claims.py": ({"claims", "paper_sources", "paper"}, {"simulate", "batch", "probe", "load_path", "postprocess"}),
-    PKG / "model" / "kernels.py": ({"simulate", "batch", "postprocess", "figure"}, set()),
-    PKG / "solvers" / "explicit.py": ({"simulate", "batch"}, set()),
-    PKG / "solvers" / "implicit.py": ({"simulate", "batch"}, set()),
+    PKG / "claims" / "verdicts.py": ({"claims", "paper_sources", "paper"},
+                                     {"simulate", "batch", "probe", "load_path", "postprocess"}),
+    PKG / "sim" / "model" / "kernels.py": ({"simulate", "batch", "postprocess", "figure"}, set()),
+    PKG / "sim" / "solvers" / "explicit.py": ({"simulate", "batch"}, set()),
+    PKG / "sim" / "solvers" / "implicit.py": ({"simulate", "batch"}, set()),
+}
+SIM_RULES = {"simulate", "batch", "probe", "load_path"}
+PROBES.update({
+    # the table of figure quantities extends the shared one: a new figure quantity re-runs no simulation
+    PKG / "analysis" / "quantities.py": ({"postprocess", "figure"}, SIM_RULES),
+    PKG / "quantities.py": (SIM_RULES, set()),
+})
+# a new, empty module in each part (created, planned, deleted): the rules' code inputs follow where it is
+NEW_MODULES = {
+    PKG / "sim" / "rerun_probe_new.py": (SIM_RULES, set()),
+    PKG / "analysis" / "rerun_probe_new.py": (set(), SIM_RULES | {"postprocess", "figure", "claims"}),
+    PKG / "claims" / "rerun_probe_new.py": ({"claims", "paper_sources", "paper"},
+                                           SIM_RULES | {"postprocess", "figure"}),
+    PKG / "pipeline" / "rerun_probe_new.py": (set(), SIM_RULES | {"postprocess", "figure", "claims"}),
 }
 # how many figures a one-kind edit may re-run at most (the kind's own figures, not all)
-ONE_KIND = {PKG / "figures" / "pitch_profile.py": 1, PKG / "figures" / "bifurcation.py": 1}
+ONE_KIND = {PKG / "analysis" / "figures" / "pitch_profile.py": 1, PKG / "analysis" / "figures" / "bifurcation.py": 1}
 # how many figures an edit must re-run at least (every kind that imports the module)
-SHARED = {PKG / "figures" / "helix_views.py": 3}
+SHARED = {PKG / "analysis" / "figures" / "helix_views.py": 3}
 
 
 def planned_rules(config: str) -> dict[str, int]:
@@ -83,16 +101,29 @@ def main(argv=None) -> int:
         finally:
             probe.write_bytes(original)
             os.utime(probe, ns=(st.st_atime_ns, st.st_mtime_ns))
-        ran = set(plan)
-        ok = must <= ran and not (must_not & ran)
-        if probe in ONE_KIND and plan.get("figure", 0) > ONE_KIND[probe]:
-            ok = False
-        if probe in SHARED and plan.get("figure", 0) < SHARED[probe]:
-            ok = False
-        failures += not ok
-        print(f"{'ok  ' if ok else 'FAIL'} edit {probe.relative_to(ROOT)} -> would run {plan or 'nothing'}"
-              f" (expected {sorted(must)}, never {sorted(must_not)})")
+        failures += not report(probe, "edit", plan, must, must_not)
+    for probe, (must, must_not) in NEW_MODULES.items():
+        if probe.exists():
+            raise SystemExit(f"{probe} exists: remove the leftover of an interrupted check")
+        try:
+            probe.write_text('"""rerun-trigger probe: a new, empty module"""\n')
+            plan = planned_rules(config)
+        finally:
+            probe.unlink(missing_ok=True)
+        failures += not report(probe, "new", plan, must, must_not)
     return 1 if failures else 0
+
+
+def report(probe: Path, what: str, plan: dict[str, int], must: set[str], must_not: set[str]) -> bool:
+    ran = set(plan)
+    ok = must <= ran and not (must_not & ran)
+    if probe in ONE_KIND and plan.get("figure", 0) > ONE_KIND[probe]:
+        ok = False
+    if probe in SHARED and plan.get("figure", 0) < SHARED[probe]:
+        ok = False
+    print(f"{'ok  ' if ok else 'FAIL'} {what} {probe.relative_to(ROOT)} -> would run {plan or 'nothing'}"
+          f" (expected {sorted(must)}, never {sorted(must_not)})")
+    return ok
 
 
 if __name__ == "__main__":

@@ -4,8 +4,8 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 # isort: split
 import xarray as xr
 
+from confined_rod import claims
 from confined_rod.analysis import evidence
-from confined_rod.claims import verdicts as claims
 from confined_rod.io import logged, write_dataset, write_text
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)

@@ -330,7 +330,7 @@ def check_paper(config: dict[str, Any], root: str | Path = ROOT) -> None:
     paper = config.get("paper")
     if not paper:
         return
-    from ..claims import verdicts as claims
+    from .. import claims
 
     for key in ("manuscript", "claims"):
         if not (Path(root) / paper[key]).is_file():

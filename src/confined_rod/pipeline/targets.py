@@ -108,7 +108,7 @@ def paper_outputs(config: dict[str, Any]) -> list[str]:
 
 def claim_sims(config: dict[str, Any]) -> dict[str, str]:
     """'figure/scene' -> simulation file, for the figures whose simulations the claims read."""
-    from ..claims import verdicts as claims
+    from .. import claims
 
     paper = config.get("paper")
     if not paper:
