@@ -18,17 +18,21 @@ import csv
 import json
 import os
 import platform
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
+from confined_rod import layout  # noqa: E402
 
 
 def job_times(results: Path) -> list[dict]:
     rows = []
-    for tsv in sorted((results / "benchmarks").rglob("*.tsv")):
+    for tsv in sorted(layout.under(results, layout.BENCHMARKS).rglob("*.tsv")):
         with tsv.open() as fh:
             records = list(csv.DictReader(fh, delimiter="\t"))
         if not records:
             continue
-        rel = tsv.relative_to(results / "benchmarks")
+        rel = tsv.relative_tolayout.under(results, layout.BENCHMARKS)
         rows.append({"rule": rel.parts[0], "job": str(rel.with_suffix("")), "s": float(records[-1]["s"])})
     return rows
 
@@ -41,8 +45,8 @@ def run_overhead(results: Path, jobs: list[dict]) -> dict:
     import netCDF4
 
     solver, scenes = 0.0, 0
-    for sub in ("sims", "probes"):
-        for nc in (results / sub).rglob("*.nc"):
+    for folder in (layout.SIMS, layout.PROBES):
+        for nc in layout.under(results, folder).rglob("*.nc"):
             with netCDF4.Dataset(nc) as ds:
                 solver += float(ds["wall_time"][...]) if "wall_time" in ds.variables else 0.0
             scenes += 1
@@ -58,7 +62,7 @@ def solver_by_length(results: Path) -> dict:
     import netCDF4
 
     by: dict = {}
-    for nc in (results / "sims").rglob("*.nc"):
+    for nc in layout.under(results, layout.SIMS).rglob("*.nc"):
         with netCDF4.Dataset(nc) as ds:
             if "wall_time" not in ds.variables:
                 continue
@@ -73,7 +77,7 @@ def solver_by_length(results: Path) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--results", default="results")
+    ap.add_argument("--results", default=str(layout.RESULTS))
     ap.add_argument("--wall", type=float, default=None, help="measured wall time of the whole build, s")
     ap.add_argument("--note", default="")
     ap.add_argument("-o", "--output", default="benchmarks/results/publication_build.json")

@@ -35,7 +35,7 @@ matplotlib.use("Agg")
 import matplotlib.text  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from confined_rod import pipeline  # noqa: E402
+from confined_rod import layout, pipeline  # noqa: E402
 from confined_rod.analysis import figures, plotting  # noqa: E402
 from confined_rod.claims import manuscript as paper  # noqa: E402
 
@@ -78,7 +78,7 @@ def printed_sizes(fig, min_pt: float = MIN_PT) -> dict:
 
 def check_figure(name: str, results: Path, min_pt: float) -> dict:
     """printed_sizes() of a figure rebuilt from its dataset, with its 'kind'."""
-    ds = xr.load_dataset(results / "datasets" / f"{name}.nc")
+    ds = xr.load_dataset(layout.under(results, layout.dataset_path(name)))
     kind = ds.attrs["kind"]
     with plotting.plt.rc_context(plotting.STYLE):
         fig = figures.get(kind).plot(ds)
@@ -92,7 +92,7 @@ def main(argv=None) -> int:
     ap.add_argument("config")
     ap.add_argument("--figure", action="append", help="only this figure (repeatable)")
     ap.add_argument("--min", type=float, default=MIN_PT, help=f"smallest printed size in pt (default {MIN_PT})")
-    ap.add_argument("--results", default=str(ROOT / "results"))
+    ap.add_argument("--results", default=str(ROOT / layout.RESULTS))
     ap.add_argument("-v", "--verbose", action="store_true", help="list every text that is too small")
     args = ap.parse_args(argv)
     config = yaml.safe_load(Path(args.config).read_text())
@@ -100,7 +100,7 @@ def main(argv=None) -> int:
     results = Path(args.results)
     failed: dict[str, list[str]] = {}
     for name in names:
-        path = results / "datasets" / f"{name}.nc"
+        path = layout.under(results, layout.dataset_path(name))
         if not path.is_file():
             print(f"{name}: MISSING {path} (build the config first)")
             failed.setdefault("(missing datasets)", []).append(name)

@@ -30,13 +30,14 @@ import xarray as xr
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
-RESULTS = ROOT / "results"
 sys.path.insert(0, str(ROOT / "src"))
 
 from confined_rod import claims as claims_mod  # noqa: E402
+from confined_rod import layout  # noqa: E402
 from confined_rod.claims import fmt  # noqa: E402
 from confined_rod.claims import manuscript as paper  # noqa: E402
 
+RESULTS = ROOT / layout.RESULTS
 MACRO = re.compile(r"\\(ours|paperval|verdict|val)\{([^}]*)\}")
 FAMILY = {"ours": "ours", "paperval": "paper", "verdict": "verdict", "val": "val"}
 
@@ -74,16 +75,21 @@ def used_macros(tex: Path, numbers: Path) -> set[tuple[str, str]]:
     return {(FAMILY[f], k) for f, k in MACRO.findall(text) if k != "#1" and not k.startswith("#")}
 
 
+def _built(path: str | Path) -> Path:
+    """A file of the layout in the build checked (--results)."""
+    return _built(path)
+
+
 def check(config_path: str) -> dict:
     config = yaml.safe_load(Path(config_path).read_text())
     spec = config.get("paper")
     if not spec:
         fail(f"{config_path} has no paper section")
     name = Path(spec["manuscript"]).stem
-    pdf = RESULTS / "paper" / f"{name}.pdf"
+    pdf = _built(layout.paper_pdf(name))
     if not pdf.is_file():
         fail(f"{pdf} does not exist")
-    expected = json.loads((RESULTS / "paper" / "expected.json").read_text())
+    expected = json.loads(_built(layout.paper_source("expected")).read_text())
     n_pages = pages(pdf)
     lo, hi = spec.get("pages", [1, 10_000])
     if not lo <= n_pages <= hi:
@@ -96,7 +102,7 @@ def check(config_path: str) -> dict:
     if figs != list(range(1, expected["n_figures"] + 1)):
         fail(f"{pdf.name}: numbered figures {figs}, expected 1..{expected['n_figures']} (one per figure of the config)")
     missing = []
-    for family, key in sorted(used_macros(ROOT / spec["manuscript"], RESULTS / "paper" / "numbers.tex")):
+    for family, key in sorted(used_macros(ROOT / spec["manuscript"], _built(layout.paper_source("numbers")))):
         plain = expected["macros"].get(f"{family}@{key}")
         if plain is None:
             fail(f"the manuscript uses \\{family}{{{key}}}, which the build does not generate")
@@ -108,8 +114,8 @@ def check(config_path: str) -> dict:
     if missing:
         fail(f"{len(missing)} generated values are not in the PDF text: " + "; ".join(missing[:10]))
     # the claims table, row by row (labels C1, C2, ... in order)
-    layout = pdf_text(pdf, layout=True)            # rows stay on their lines
-    table = paper.normalize(layout[layout.rfind("Every checkable statement"):])
+    laid_out = pdf_text(pdf, layout=True)          # rows stay on their lines
+    table = paper.normalize(laid_out[laid_out.rfind("Every checkable statement"):])
     rows, start = expected["claims"], 0
     for i, row in enumerate(rows):
         start = table.find(row["label"], start)
@@ -125,16 +131,16 @@ def check(config_path: str) -> dict:
             if not in_order(row[what], seg):
                 fail(f"claims table row {row['label']} ({row['id']}): {what} {row[what]!r} not in {seg[:200]!r}")
     listed = claims_mod.load(ROOT / spec["claims"])
-    with open(RESULTS / "claims.csv") as f:
+    with open(_built(layout.CLAIMS_CSV)) as f:
         table_rows = list(csv.DictReader(f))
     if [r["id"] for r in table_rows] != [c["id"] for c in listed]:
-        fail("results/claims.csv does not have one row per claim of " + spec["claims"])
+        fail(f"{layout.CLAIMS_CSV} does not have one row per claim of " + spec["claims"])
     bad = [r["id"] for r in table_rows if r["verdict"] not in claims_mod.VERDICTS]
     if bad:
-        fail(f"results/claims.csv: claims without a verdict: {bad}")
+        fail(f"{layout.CLAIMS_CSV}: claims without a verdict: {bad}")
     counts = {v: sum(r["verdict"] == v for r in table_rows) for v in claims_mod.VERDICTS}
     print(f"check_paper: {pdf.name}: {n_pages} pages, {len(figs)} figures, "
-          f"{len(used_macros(ROOT / spec['manuscript'], RESULTS / 'paper' / 'numbers.tex'))} generated "
+          f"{len(used_macros(ROOT / spec['manuscript'], _built(layout.paper_source('numbers'))))} generated "
           f"values and {len(rows)} claim rows found in the text; verdicts {counts}")
     return expected
 
@@ -144,20 +150,20 @@ def perturb(config_path: str) -> None:
     config = yaml.safe_load(Path(config_path).read_text())
     fig = config["figures"]["fig1_short_long"]
     short = min(fig["scenes"], key=lambda s: fig["scenes"][s].get("L", 0))
-    before = json.loads((RESULTS / "paper" / "expected.json").read_text())["macros"]["ours@euler_ratio_short"]
+    before = json.loads(_built(layout.paper_source("expected")).read_text())["macros"]["ours@euler_ratio_short"]
     fig["scenes"][short]["L"] = float(fig["scenes"][short]["L"]) + 4.0
     with tempfile.NamedTemporaryFile("w", suffix=".yaml", dir=ROOT / "config", delete=False) as f:
         yaml.safe_dump(config, f, sort_keys=False)
         tmp = Path(f.name)
     try:
-        target = f"results/paper/{Path(config['paper']['manuscript']).stem}.pdf"
+        target = layout.paper_pdf(Path(config['paper']['manuscript']).stem)
         subprocess.run([str(ROOT / ".venv" / "bin" / "snakemake"), target, "--cores", "2", "--configfile", str(tmp),
                         "--quiet", "rules"], cwd=ROOT, check=True)
     finally:
         tmp.unlink()
     expected = check(config_path)
     after = expected["macros"]["ours@euler_ratio_short"]
-    ds = xr.load_dataset(RESULTS / "datasets" / "fig1_short_long.nc")
+    ds = xr.load_dataset(_built(layout.dataset_path("fig1_short_long")))
     spec = next(c for c in claims_mod.load(ROOT / "paper" / "claims.yaml") if c["id"] == "euler_ratio_short")
     value = fmt(float(ds.euler_ratio.isel(scene=0)), spec.get("format"))
     if after == before or after != value:
@@ -171,7 +177,8 @@ def main() -> None:
     global RESULTS
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("config")
-    ap.add_argument("--results", default=str(ROOT / "results"), help="the build's results folder (default: results/)")
+    ap.add_argument("--results", default=str(ROOT / layout.RESULTS),
+                    help=f"the build's results folder (default: {layout.RESULTS}/)")
     ap.add_argument("--perturb", action="store_true", help="also check that a config change reaches the PDF")
     args = ap.parse_args()
     RESULTS = Path(args.results)

@@ -82,8 +82,8 @@ def compare_dataset(a: Path, b: Path, attr_values: bool = True) -> list[str]:
 
 def compare(before: Path, after: Path) -> dict:
     rel = lambda p: str(Path(p).relative_to(layout.RESULTS))  # noqa: E731
-    netcdf = [p.relative_to(before) for sub in (*layout.SCENE_FOLDERS, rel(layout.DATASETS))
-              for p in sorted((before / sub).rglob("*.nc"))]
+    folders = [rel(f) for f in (*layout.SCENE_FOLDERS, layout.DATASETS)]
+    netcdf = [p.relative_to(before) for sub in folders for p in sorted((before / sub).rglob("*.nc"))]
     if (before / rel(layout.CLAIMS_NC)).exists():
         netcdf.append(Path(rel(layout.CLAIMS_NC)))
     text = [p.relative_to(before) for p in sorted((before / rel(layout.CHECKS)).glob("*.txt"))]
@@ -99,7 +99,7 @@ def compare(before: Path, after: Path) -> dict:
             diffs[str(r)] = ["missing"]
         elif (after / r).read_text() != _rewritten((before / r).read_text()):
             diffs[str(r)] = ["text differs"]
-    extra = sorted(str(p.relative_to(after)) for sub in (*layout.SCENE_FOLDERS, rel(layout.DATASETS))
+    extra = sorted(str(p.relative_to(after)) for sub in folders
                    for p in (after / sub).rglob("*.nc") if not (before / p.relative_to(after)).exists())
     return {"netcdf_compared": len(netcdf), "text_compared": len(text), "replaced": [f"{a} -> {b}" for a, b in REPLACE],
             "differences": diffs, "only_after": extra}

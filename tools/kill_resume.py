@@ -32,13 +32,11 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-import xarray as xr
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from compare_builds import compare_dataset, layout  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
-TIMING_VARIABLES = {"wall_time"}
-VOLATILE_ATTRS = {"history", "git_commit", "scene_git_commits", "boundary_git_commit"}
 
 
 def tracked_copy(dest: Path) -> None:
@@ -50,7 +48,7 @@ def tracked_copy(dest: Path) -> None:
 
 
 def finished_jobs(work: Path) -> int:
-    bench = work / "results" / "benchmarks"
+    bench = layout.under(work / layout.RESULTS, layout.BENCHMARKS)
     return sum(1 for _ in bench.rglob("*.tsv")) if bench.exists() else 0
 
 
@@ -59,43 +57,19 @@ def snakemake(work: Path, config: str, *extra: str) -> subprocess.CompletedProce
                           capture_output=True, text=True)
 
 
-def compare_dataset(a: Path, b: Path) -> list[str]:
-    diffs = []
-    with xr.open_dataset(a, decode_times=False) as x, xr.open_dataset(b, decode_times=False) as y:
-        if set(x.variables) != set(y.variables):
-            return [f"variables differ: {sorted(set(x.variables) ^ set(y.variables))}"]
-        for name in x.variables:
-            if name in TIMING_VARIABLES:
-                continue
-            u, v = x[name].values, y[name].values
-            same = (u.shape == v.shape and (np.array_equal(u, v) if u.dtype.kind in "OUS"
-                                            else u.tobytes() == v.tobytes()))
-            if not same:
-                diffs.append(f"variable {name!r} differs")
-            if x[name].attrs.keys() != y[name].attrs.keys():
-                diffs.append(f"attributes of {name!r} differ")
-        for k in set(x.attrs) | set(y.attrs):
-            if k in VOLATILE_ATTRS or "wall_time" in k:
-                continue
-            u, v = x.attrs.get(k), y.attrs.get(k)
-            if not np.array_equal(np.asarray(u), np.asarray(v)):
-                diffs.append(f"attribute {k!r}: {u!r} != {v!r}")
-    return diffs
-
-
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config", nargs="?", default="config/ci.yaml")
     ap.add_argument("--seed", type=int, default=None, help="random seed of the kill point (default: random)")
     args = ap.parse_args(argv)
-    reference = ROOT / "results"
+    reference = ROOT / layout.RESULTS
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(2**31)
     rng = random.Random(seed)
     summary: dict = {"config": args.config, "seed": seed}
     with tempfile.TemporaryDirectory(prefix="kill_resume_") as tmp:
         work = Path(tmp)
         tracked_copy(work)
-        planned = len(list((reference / "benchmarks").rglob("*.tsv")))
+        planned = len(list(layout.under(reference, layout.BENCHMARKS).rglob("*.tsv")))
         kill_after = rng.randrange(1, max(2, planned - 2))
         summary["jobs_in_build"], summary["kill_after_jobs"] = planned, kill_after
         t0 = time.perf_counter()
@@ -122,21 +96,21 @@ def main(argv=None) -> int:
         summary["resume_s"] = round(time.perf_counter() - t0 - summary["killed_after_s"], 1)
         diffs: dict[str, list[str]] = {}
         compared = 0
-        for sub in ("sims", "probes", "paths", "datasets"):
-            for ref in sorted((reference / sub).rglob("*.nc")):
+        for folder in (*layout.SCENE_FOLDERS, layout.DATASETS):
+            for ref in sorted(layout.under(reference, folder).rglob("*.nc")):
                 rel = ref.relative_to(reference)
-                mine = work / "results" / rel
+                mine = work / layout.RESULTS / rel
                 compared += 1
                 d = ["missing after the resumed build"] if not mine.exists() else compare_dataset(ref, mine)
                 if d:
                     diffs[str(rel)] = d
-        for ref in sorted((reference / "checks").glob("*.txt")):
+        for ref in sorted(layout.under(reference, layout.CHECKS).glob("*.txt")):
             rel = ref.relative_to(reference)
-            mine = work / "results" / rel
+            mine = work / layout.RESULTS / rel
             compared += 1
             if not mine.exists() or mine.read_text() != ref.read_text():
                 diffs[str(rel)] = ["check verdict differs"]
-        leftovers = sorted(str(p.relative_to(work)) for p in (work / "results").rglob("*.tmp"))
+        leftovers = sorted(str(p.relative_to(work)) for p in (work / layout.RESULTS).rglob("*.tmp"))
         summary.update({"files_compared": compared, "differences": diffs, "leftover_temporaries": leftovers})
         ok = compared > 0 and not diffs and not leftovers
         summary["result"] = "identical" if ok else "DIFFERENT"

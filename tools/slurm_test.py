@@ -44,18 +44,19 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from kill_resume import compare_dataset, tracked_copy  # noqa: E402
+from compare_builds import compare_dataset, layout  # noqa: E402
+from kill_resume import tracked_copy  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 PARTITION = "ci"
 #: datasets built through SLURM and compared with the local build: Fig 7's seed ensemble
 #: (three simulations and the dataset), Fig 4's three panels and its dataset
-TARGETS = ("results/datasets/fig7_tiny_force.nc", "results/datasets/fig4_Fonl.nc")
+TARGETS = (layout.dataset_path("fig7_tiny_force"), layout.dataset_path("fig4_Fonl"))
 #: the job killed at its time limit: the batch that runs a stability-map probe (the CI config's
 #: 40 probes run as one batch of about 20 s; its name and log are read
 #: from the config: batch_of_kill_target)
-KILL_TARGET = "results/probes/stability_map/explicit-l0-0p25.nc"
+KILL_TARGET = layout.probe_path("stability_map", "explicit-l0-0p25")
 KILL_RULE = "batch"
 DAEMONS = ("slurmd", "slurmctld", "munged")
 SYSTEM_CONF = Path("/etc/slurm/slurm.conf")
@@ -233,8 +234,8 @@ def main(argv=None) -> int:
             summary["build_s"] = round(time.perf_counter() - t0, 1)
             if run.returncode != 0:
                 raise RuntimeError("the build through profiles/slurm failed:\n" + run.stderr[-4000:])
-            built = sorted(str(p.relative_to(work)) for sub in ("sims", "datasets")
-                           for p in (work / "results" / sub).rglob("*.nc"))
+            built = sorted(str(p.relative_to(work)) for folder in (layout.SIMS, layout.DATASETS)
+                           for p in layout.under(work / layout.RESULTS, folder).rglob("*.nc"))
             done = [j for j in cluster.jobs() if j[1] == "COMPLETED"]
             summary["jobs_through_slurm"] = len(done)
             summary["files_compared"] = len(built)
@@ -286,7 +287,7 @@ def main(argv=None) -> int:
             summary["timeout"]["resume_s"] = round(time.perf_counter() - t0, 1)
             summary["timeout"]["differences"] = compare(ROOT, work, [KILL_TARGET]) if rerun.returncode == 0 \
                 else {KILL_TARGET: ["rerun failed: " + rerun.stderr[-2000:]]}
-            leftovers = sorted(str(p.relative_to(work)) for p in (work / "results").rglob("*.tmp"))
+            leftovers = sorted(str(p.relative_to(work)) for p in (work / layout.RESULTS).rglob("*.tmp"))
             summary["leftover_temporaries"] = leftovers
             t = summary["timeout"]
             ok = (not summary["differences"] and t["slurm_state"] == "TIMEOUT" and t["build_exit"] != 0

@@ -23,6 +23,8 @@ from pathlib import Path
 
 RESULTS = Path("results")
 SIMS = RESULTS / "sims"
+PROBES = RESULTS / "probes"
+PATHS = RESULTS / "paths"
 DATASETS = RESULTS / "datasets"
 CHECKS = RESULTS / "checks"
 PAPER = RESULTS / "paper"
@@ -31,7 +33,7 @@ BENCHMARKS = RESULTS / "benchmarks"
 CLAIMS_CSV = str(RESULTS / "claims.csv")
 CLAIMS_NC = str(RESULTS / "claims.nc")
 #: the folders of scene files (whatever rule made them)
-SCENE_FOLDERS = ("sims", "probes", "paths")
+SCENE_FOLDERS = (SIMS, PROBES, PATHS)
 #: the manuscript's generated parts (rule paper_sources), by output name
 PAPER_SOURCES = {"numbers": "numbers.tex", "table": "claims_table.tex", "readings": "readings_table.tex",
                  "figures": "figures.tex", "expected": "expected.json"}
@@ -60,11 +62,11 @@ def figure_paths(figure: str) -> tuple[str, str]:
 
 
 def probe_path(figure: str, scene: str) -> str:
-    return str(RESULTS / "probes" / figure / f"{scene}.nc")
+    return str(PROBES / figure / f"{scene}.nc")
 
 
 def path_file(figure: str, scene: str) -> str:
-    return str(RESULTS / "paths" / figure / f"{scene}.nc")
+    return str(PATHS / figure / f"{scene}.nc")
 
 
 def batch_manifest(kind: str, figure: str, batch: str) -> str:
@@ -112,3 +114,9 @@ def paper_source(name: str) -> str:
 def paper_pdf(stem: str) -> str:
     """The manuscript built from paper/<stem>.tex."""
     return str(PAPER / f"{stem}.pdf")
+
+
+def under(results: str | Path, path: str | Path) -> Path:
+    """A path of this layout moved under another results folder (a copy of the checkout, a
+    build kept for comparison): ``under("/tmp/b/results", dataset_path("fig4"))``."""
+    return Path(results) / Path(path).relative_to(RESULTS)

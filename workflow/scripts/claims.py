@@ -4,7 +4,7 @@ import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 # isort: split
 import xarray as xr
 
-from confined_rod import claims
+from confined_rod import claims, layout
 from confined_rod.analysis import evidence
 from confined_rod.io import logged, write_dataset, write_text
 
@@ -18,7 +18,7 @@ with logged(sm.log[0]):
     if unsettled:
         evidence.warn(f"warning: {len(unsettled)} claims are not testable because their evidence is not at "
                       "equilibrium: " + "; ".join(f"{v.id}: {v.note}" for v in unsettled[:5])
-                      + (f"; and {len(unsettled) - 5} more (results/claims.csv)" if len(unsettled) > 5 else ""))
+                      + (f"; and {len(unsettled) - 5} more ({layout.CLAIMS_CSV})" if len(unsettled) > 5 else ""))
     for v in verdicts:
         print(f"{v.id:28s} {v.verdict:26s} paper {v.paper[:30]!r:34s} ours {v.ours[:30]!r:34s} {v.evidence}")
     write_dataset(claims.to_dataset(verdicts, claims.finding_titles(sm.input.claims)), sm.output.nc)

@@ -23,6 +23,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 import xarray as xr
 
+from .. import layout
 from .verdicts import VERDICTS, Verdict, fmt
 
 # LaTeX special characters in plain text
@@ -597,7 +598,7 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
                  r"distance of the publication value from the limit (the Richardson limit; for seed ensembles the "
                  r"finest rung's mean; for the ramp ladders the mean change seed by seed) is the worst over "
                  r"$|F_z(L)|$, $L_z$ and the pitch; a verdict cut short is given in full in "
-                 r"\texttt{results/checks}.}\label{tab:convergence}" "\n" r"\small" "\n"
+                 rf"\texttt{{{layout.CHECKS}}}.}}\label{{tab:convergence}}" "\n" r"\small" "\n"
                  r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
                  r"ladder & parameter & $L/R$ & load & $k_{fr}$ & value & tol.~(\%) & off the limit (\%), verdict \\"
                  r" \hline" "\n" + "\n".join(rows)
@@ -632,7 +633,7 @@ def claims_table(verdicts: Iterable[Verdict]) -> str:
     head = (rf"\begin{{longtable}}{{@{{}}{col}{{0.035\linewidth}}{col}{{0.12\linewidth}}{col}{{0.39\linewidth}}"
             rf"{col}{{0.13\linewidth}}{col}{{0.13\linewidth}}{col}{{0.1\linewidth}}@{{}}}}" "\n"
             r"\caption{Every checkable statement of the original paper, with the paper's value, ours and the "
-            r"computed verdict (rule \texttt{claims}: \texttt{results/claims.csv}, with the evidence and the "
+            rf"computed verdict (rule \texttt{{claims}}: \texttt{{{layout.CLAIMS_CSV}}}, with the evidence and the "
             r"tolerance of each). The readings behind ``reproduced under reading'' are in Table~\ref{tab:readings}.}"
             r"\label{tab:claims}\\" "\n"
             r"\hline & where & claim & paper & ours & verdict \\ \hline\endfirsthead" "\n"
@@ -660,7 +661,7 @@ def provenance(figure: str, ds: xr.Dataset, config_name: str) -> str:
     def tt(text: str) -> str:
         return r"\texttt{" + tex_escape(text) + "}"
     return (f"Provenance: config {tt(config_name)}, git commit {tt(commit)}, dataset "
-            f"{tt(f'results/datasets/{figure}.nc')} ({tt('confined_rod')} "
+            f"{tt(layout.dataset_path(figure))} ({tt('confined_rod')} "
             f"{tex_escape(str(ds.attrs.get('confined_rod_version', '?')))}).")
 
 

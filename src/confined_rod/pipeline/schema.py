@@ -15,6 +15,7 @@ from typing import Any
 
 import yaml
 
+from .. import layout
 from ..analysis import figures
 from ..quantities import SCENE_PARAMETERS, pretty_unit
 
@@ -78,7 +79,7 @@ def build_schema() -> dict[str, Any]:
                 "description": "build the reproduction manuscript (rule paper) from this config's datasets",
                 "properties": {
                     "manuscript": {"type": "string", "pattern": "^paper/[A-Za-z0-9_-]+[.]tex$",
-                                   "description": "LaTeX source in paper/; built to results/paper/<name>.pdf"},
+                                   "description": f"LaTeX source in paper/; built to {layout.paper_pdf('<name>')}"},
                     "claims": {"type": "string", "pattern": "^paper/[A-Za-z0-9_/-]+[.]yaml$",
                                "description": "the original's claims and how each is tested"},
                     "pages": {"type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 2,

@@ -49,6 +49,7 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
+from ... import layout
 from ...errors import ConfigError
 from .. import ensembles, evidence
 from .. import plotting as P
@@ -126,7 +127,7 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
                 f"seed by seed: the publication value {p} = {publication_value:g} passes when the mean paired change "
                 "to every finer rung over all seeds, plus its 95 % Student-t bound, is within the tolerance; the seeds "
                 "that change state (a finer path may select a neighbouring equilibrium) are listed apart in the "
-                "verdict (results/checks).")
+                f"verdict ({layout.CHECKS}).")
     if n > 1:
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}), each rung a seed ensemble of "
                 f"{n:g} runs: ensemble means of the transmitted force, L_z and {PITCH_PANEL} against the refinement "
@@ -450,12 +451,12 @@ def _title_lines(head: str, status: str) -> list[str]:
     headlines (brief_status) with a pointer to the full text; only then cut at a word."""
     def wrap(text):
         return textwrap.wrap(head + text.replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH)
-    for text in (status, brief_status(status) + " (full verdict: results/checks)"):
+    for text in (status, brief_status(status) + f" (full verdict: {layout.CHECKS})"):
         lines = wrap(text)
         if len(lines) <= TITLE_LINES:
             return lines
     return textwrap.wrap(head + status.replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH, max_lines=TITLE_LINES,
-                         placeholder=" ... (full verdict: results/checks)")
+                         placeholder=f" ... (full verdict: {layout.CHECKS})")
 
 
 def winding_shift(values: np.ndarray, turns: np.ndarray, has: np.ndarray, ipub: int) -> str:

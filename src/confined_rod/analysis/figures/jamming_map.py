@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.lines import Line2D
 
-from ... import theory
+from ... import layout, theory
 from ...errors import ConfigError
 from .. import ensembles
 from .. import plotting as P
@@ -174,7 +174,7 @@ def _with_boundary(ds: xr.Dataset, name: str, datasets) -> xr.Dataset:
     """The fold/escape thresholds of the Fig 8 dataset `name`, in units of EI/R^2 against
     L/R: the loads above which a fresh run folds or escapes instead of forming a helix."""
     if name not in datasets:
-        raise ValueError(f"jamming map: thresholds = {name!r}, but its dataset (results/datasets/{name}.nc) was "
+        raise ValueError(f"jamming map: thresholds = {name!r}, but its dataset ({layout.dataset_path(name)}) was "
                          "not given to the builder")
     e = datasets[name]
     scale = e["threshold_R2_over_EI"].values
@@ -184,7 +184,7 @@ def _with_boundary(ds: xr.Dataset, name: str, datasets) -> xr.Dataset:
     ds["boundary_escaped"] = variable(B, e["escaped_above"].values.astype(np.int8), "escaped_above")
     ds["boundary_free_span"] = variable(B, e["free_span"].values / e["aspect_R"].values, "boundary_free_span")
     ds = ds.assign_coords(boundary_aspect=variable(B, e["aspect"].values, "aspect"))
-    ds.attrs.update({"boundary_source": f"results/datasets/{name}.nc (threshold_lo, threshold_hi, escaped_above)",
+    ds.attrs.update({"boundary_source": f"{layout.dataset_path(name)} (threshold_lo, threshold_hi, escaped_above)",
                      "boundary_git_commit": str(e.attrs.get("git_commit", "unknown"))})
     return ds
 

@@ -153,7 +153,7 @@ def pitch_exponent(ev, spec, claim):
     if "seeds_from" in spec and holds is not None:
         # the same slope on every seed of an ensemble of the same rod (same L, load, k_fr) in another
         # figure: a verdict that a seed flips is luck
-        from ..analysis.figures import pitch_profile
+        from ...analysis.figures import pitch_profile
         _, rod = ev.sim(spec["figure"], -1, claim)
         same = [(k, d) for k, d in ev.sims.items() if k.startswith(spec["seeds_from"] + "/")
                 and all(float(d.attrs[a]) == float(rod.attrs[a]) for a in ("L", "load", "k_fr"))]
