@@ -35,9 +35,7 @@ def _sim_file(path: Path, wanted: dict, status: str = "converged") -> Path:
 
 
 def _ci_config():
-    config = yaml.safe_load(CI.read_text())
-    pipeline.expand(config)
-    return config
+    return pipeline.expand(yaml.safe_load(CI.read_text()))
 
 
 # -- a file is the run the config asks for --------------------------------------------------------
@@ -251,7 +249,7 @@ def _ensemble_cases():
                                     for L in (20, 40, 80) for s in range(3)}),
              "force_profile": ({"kind": "force_profile"}, {f"c-s{s}": _profile(s, 1 + 0.1 * s) for s in range(3)})}
     grid = {"kind": "jamming_map", "grid": {"L": [10, 40], "load": [0.25], "k_fr": [0.8]}, "defaults": {"seeds": 2}}
-    pipeline.expand({"figures": {"map": grid}})
+    grid = pipeline.expand({"figures": {"map": grid}})["figures"]["map"]
     cases["jamming_map"] = (grid, {n: _sim(float(n[1:3]), int(n[-1]), 0.2 if n.startswith("L10") else 0.05)
                                    for n in grid["scenes"]})
     ladder_sims = {}                                # as test_ensemble_ladder_dataset_from_constructed_rungs

@@ -234,3 +234,21 @@ def test_new_config_entries_are_checked_before_any_work():
         pipeline.validate(bad)
     with pytest.raises(SceneError, match="bending_constant"):
         Scene(bending_constant="EI/l0^2")
+
+
+def test_a_figure_is_written_atomically_and_a_killed_writers_temporary_is_removed(tmp_path):
+    """Figures go through io.atomic_write like the datasets: the temporary of a writer killed
+    earlier (a pid that cannot run) is removed by the next write of the same file."""
+    import matplotlib.pyplot as plt
+
+    from confined_rod.analysis.plotting import _save
+
+    target = tmp_path / "f.png"
+    stale = tmp_path / ".f.png.999999999.tmp"
+    stale.write_bytes(b"half a figure")
+    fig = plt.figure()
+    fig.add_subplot().plot([0, 1])
+    _save(fig, target)
+    plt.close(fig)
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png"]

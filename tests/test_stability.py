@@ -24,7 +24,7 @@ def test_probe_records_equilibrium_divergence_and_invalid_input():
     bad = probe(BASE | {"name": "bad", "l0": 10.0})
     assert status(bad) == "invalid" and "'l0': 10.0" in bad.attrs["message"]
     capped = probe(BASE | {"name": "capped", "t_max": 1.0})
-    assert status(capped) == "not_converged" and "time cap" in capped.attrs["message"]
+    assert status(capped) == "time_cap" and "time cap" in capped.attrs["message"]
     for ds in (ok, blow, bad, capped):
         check_finite(ds)
 
@@ -81,7 +81,7 @@ def test_the_map_classifies_each_point_by_its_physics_as_well_as_its_status():
               "implicit-tol-0p1": _probe("converged", 0.247, "straight"),
               "implicit-l0-0p125": _probe("converged", 0.175, "helix"),
               "implicit-dx_max-0p02": _probe("converged", 0.0915, "helix"),
-              "implicit-t_max-1": _probe("not_converged", 0.2, "helix"),
+              "implicit-t_max-1": _probe("time_cap", 0.2, "helix"),
               "implicit-k_w-m1": _probe("invalid", 0.0),
               "implicit-load-2p5": _probe("converged", 1.2, "helix")}
     ds = stability_map(fig, probes)

@@ -39,8 +39,7 @@ def dry_run(config: str, *targets: str) -> tuple[dict[str, int], str]:
 
 def main(argv=None) -> int:
     config_path = (argv or sys.argv[1:] or ["config/ci.yaml"])[0]
-    config = yaml.safe_load((ROOT / config_path).read_text())
-    pipeline.expand(config)
+    config = pipeline.expand(yaml.safe_load((ROOT / config_path).read_text()))
     plan, _ = dry_run(config_path)
     if plan:
         raise SystemExit(f"the build is not complete (would run {plan}); run snakemake first")

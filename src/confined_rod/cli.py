@@ -96,8 +96,7 @@ def check_config(path: Path) -> int:
     from . import pipeline
 
     try:
-        config = pipeline.read_config(path)
-        pipeline.check(config)
+        config = pipeline.check(pipeline.read_config(path))
     except pipeline.ConfigError as exc:
         print(f"error: invalid config: {exc}", file=sys.stderr)
         return 2

@@ -104,18 +104,20 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write netCDF4 atomically: a temporary file in the same folder, renamed on success,
     so a failed job leaves no half-written file."""
     check_finite(ds)
-    return _atomic(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
 
 
 def write_text(text: str, path: str | Path) -> Path:
     """Write a text file atomically (same scheme as write_dataset)."""
-    return _atomic(path, lambda tmp: tmp.write_text(text))
+    return atomic_write(path, lambda tmp: tmp.write_text(text))
 
 
-def _atomic(path: str | Path, write) -> Path:
-    """Call write(tmp) on a temporary file in the target's folder, then rename it
-    over the target; on any error the temporary file is removed.  Temporaries left
-    by a killed writer (SIGKILL cannot be caught) are removed on the next write."""
+def atomic_write(path: str | Path, write) -> Path:
+    """Call write(tmp) on a temporary file in the target's folder (``.<name>.<pid>.tmp``: a
+    writer that picks its format by suffix must be told it), then rename it over the target;
+    on any error the temporary file is removed.  Temporaries left by a killed writer (SIGKILL
+    cannot be caught) are removed on the next write of the same file.  Every file the package
+    writes goes through here (datasets, texts, figures)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     remove_stale_temporaries(path)

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+#: a figure's and a scene's name (they name files and Snakemake wildcards)
+NAME_PATTERN = r"[A-Za-z0-9_-]+"
 RESULTS = Path("results")
 SIMS = RESULTS / "sims"
 PROBES = RESULTS / "probes"

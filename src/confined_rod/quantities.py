@@ -42,6 +42,13 @@ _POS_OR_DEFAULT = {"type": ["number", "null"], "exclusiveMinimum": 0}  # null: t
 _NONNEG_OR_DEFAULT = {"type": ["number", "null"], "minimum": 0}
 
 
+#: how a run ends: a simulation's ``status`` (its flag values in this order; ``status_reason`` says why)
+RUN_STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
+#: how a stability-map probe ends: its run's status, or "diverged" (the run blew up) or "invalid"
+#: (the scene was refused); its flag values in this order
+PROBE_STATUS = ("converged", "time_cap", "escaped", "diverged", "invalid", "model_violated", "step_cap")
+
+
 def _param(name, symbol, long_name, units, schema):
     return Quantity(name, symbol, long_name, units, schema)
 
@@ -144,7 +151,7 @@ SIMULATION_VARIABLES = [
     Quantity("dphi_ds", r"d\phi/ds", "azimuthal rate along the wall-contact stretch", "rad R-1"),
     Quantity("converged", "", "run reached the residual-based equilibrium criterion", "1"),
     Quantity("escaped", "", "rod left the pore through the open entrance", "1"),
-    Quantity("status", "", "how the run ended: converged, time_cap, escaped, model_violated or step_cap (reason in the "
+    Quantity("status", "", f"how the run ended: {', '.join(RUN_STATUS[:-1])} or {RUN_STATUS[-1]} (reason in the "
              "attribute 'reason')", "1"),
     Quantity("residual_force", r"\epsilon_F", "final normalised force residual max|F_i| L/(l0 load)", "1"),
     Quantity("residual_torque", r"\epsilon_M", "final normalised torque residual max|M_i| L/(l0 load R)", "1"),

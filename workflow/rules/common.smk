@@ -13,7 +13,7 @@ from confined_rod.pipeline import code
 # every scene built (limits.py) and the figure-kind rules; stability maps' sweeps
 # become scenes.
 try:
-    pipeline.check(
+    config = pipeline.check(
         config,
         files=workflow.configfiles,
         schema_path=Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml",
@@ -32,8 +32,8 @@ for _f, _s, _cost in pipeline.costly_scenes(config, limits.DEFAULT_BUDGET_S):
 
 
 wildcard_constraints:
-    figure=r"[A-Za-z0-9_-]+",
-    scene=r"[A-Za-z0-9_-]+",
+    figure=layout.NAME_PATTERN,
+    scene=layout.NAME_PATTERN,
 
 
 ALL_TARGETS = pipeline.expected_outputs(config)

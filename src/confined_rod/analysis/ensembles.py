@@ -158,11 +158,6 @@ def paired_changes(seeds: np.ndarray, v: np.ndarray, turns: np.ndarray, has: np.
     return np.array(common, dtype=int), rel, changed
 
 
-def member_key(params: Mapping[str, object]) -> tuple:
-    """What ensemble members share: every parameter but the seed and the name."""
-    return tuple(sorted((k, repr(v)) for k, v in params.items() if k not in ("seed", "name")))
-
-
 def group(names: Sequence[str], attrs: Mapping[str, Mapping[str, object]], params: Sequence[str]) -> list[list[str]]:
     """Members grouped by the values of `params` (e.g. ('L', 'pore_length')), groups in the
     order of their first member, members by seed."""

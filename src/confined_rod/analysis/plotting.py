@@ -7,7 +7,6 @@ labels and parameter symbols come from :mod:`confined_rod.quantities`.
 """
 from __future__ import annotations
 
-import os
 import textwrap
 from pathlib import Path
 
@@ -19,7 +18,7 @@ import matplotlib.ticker as ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from ..io import check_finite  # noqa: E402
+from ..io import atomic_write, check_finite  # noqa: E402
 from .quantities import param_text  # noqa: E402
 
 #: Figures are drawn at the size they are printed at: the manuscript includes each at its natural
@@ -95,16 +94,11 @@ def mark_unsettled(fig, ds: xr.Dataset) -> None:
 
 
 def _save(fig, path) -> None:
-    """Atomic: write a temporary file, then rename, so a failed job leaves nothing behind."""
+    """Atomic (io.atomic_write), so a failed job leaves nothing behind."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
-    try:
-        fig.savefig(tmp, metadata={"Title": fig.get_label()} if path.suffix == ".pdf" else None)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    fmt = path.suffix[1:]
+    atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, metadata={"Title": fig.get_label()}
+                                               if fmt == "pdf" else None))
 
 
 def plain_log_ticks(axis) -> None:

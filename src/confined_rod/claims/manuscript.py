@@ -7,10 +7,11 @@ datasets of the build (``results/paper/*.tex``), never typed:
   ``\\val{key}`` for the other numbers (counts, convergence verdicts, provenance);
   an undefined key stops LaTeX with an error instead of printing nothing;
 * ``claims_table.tex``: one row per claim (long table);
+* ``readings_table.tex``: the readings behind "reproduced under reading";
 * ``figures.tex``: one float per figure of the config, its caption ending with its
   provenance (config, git commit, the parameters of its scenes).
 
-``numbers.json`` holds, for every macro, the text it must produce in the PDF;
+``expected.json`` holds, for every macro, the text it must produce in the PDF;
 ``tools/check_paper.py`` compares it with ``pdftotext`` of the built PDF.
 Post-processing: reads datasets only.
 """

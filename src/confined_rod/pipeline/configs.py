@@ -6,14 +6,13 @@ package never imports Snakemake.  A config is a mapping
     scene_defaults: {<Scene field>: value, ...}          # optional, every scene
     figures:
       <figure id>:
-        kind: transmitted_force | force_profile | convergence | time_vs_error
+        kind: <a figure kind: a module of confined_rod/analysis/figures>
         paper_figure: <number in the paper>
         title: <one line>
         defaults: {<Scene field>: value, ...}            # every scene of this figure
         scenes:
           <scene id>: {<Scene field>: value, ...}
-        ... kind-specific entries (panel_parameter, fit_trim; parameter, tolerance,
-            on_inconclusive; reference)
+        ... the kind's own entries (its OPTIONS; the schema lists them per kind)
 
 A scene's parameters are scene_defaults, then the figure's defaults, then its
 own entries.  The JSON schema (workflow/schemas/config.schema.yaml) checks
@@ -22,6 +21,7 @@ physics validation) and checks the figure-kind rules, all before any job runs.
 """
 from __future__ import annotations
 
+import copy
 from pathlib import Path
 from typing import Any
 
@@ -153,8 +153,13 @@ def _key(params: dict[str, Any]) -> str:
     return _resolved(params)[1]
 
 
+class Expanded(dict):
+    """A config whose sweeps and seed ensembles are scenes (made by :func:`expand` only)."""
+
+
 def expand_sweeps(config: dict[str, Any]) -> None:
-    """Let every figure kind that has sweeps (stability maps) turn them into scenes, in place."""
+    """Let every figure kind that has sweeps (stability maps) turn them into scenes, in place
+    (expand calls it on its copy)."""
     for f in figures(config):
         fig = config["figures"][f]
         if fig.get("kind") in kinds.kinds():
@@ -168,7 +173,8 @@ def expand_sweeps(config: dict[str, Any]) -> None:
 
 def expand_ensembles(config: dict[str, Any]) -> None:
     """Turn every scene that asks for ``seeds`` (in its own entry, its figure's defaults or
-    scene_defaults) into one scene per seed, ``<scene>-s<seed>``, in place; idempotent.
+    scene_defaults) into one scene per seed, ``<scene>-s<seed>``, in place (expand calls it on
+    its copy); idempotent.
     Only figure kinds with ``ENSEMBLES = True`` accept them (ConfigError otherwise)."""
     from ..analysis import ensembles
 
@@ -212,11 +218,16 @@ def _add_scene(out: dict[str, Any], origin: dict[str, str], figure: str, name: s
     out[name], origin[name] = entry, source
 
 
-def expand(config: dict[str, Any]) -> dict[str, Any]:
-    """Sweeps and seed ensembles turned into scenes, in place (idempotent); returns config."""
-    expand_sweeps(config)
-    expand_ensembles(config)
-    return config
+def expand(config: dict[str, Any]) -> Expanded:
+    """The config with its sweeps and seed ensembles turned into scenes: a new mapping, the
+    given one left as it is; a config expand made is returned as it is (the functions that need
+    the scenes call it, so the workflow expands once, at start-up: ``check``)."""
+    if isinstance(config, Expanded):
+        return config
+    out = Expanded(copy.deepcopy(dict(config)))
+    expand_sweeps(out)
+    expand_ensembles(out)
+    return out
 
 
 def convergence_figures(config: dict[str, Any]) -> list[str]:
@@ -299,7 +310,7 @@ def costly_scenes(config: dict[str, Any], budget_s: float) -> list[tuple[str, st
     """(figure, scene, estimated seconds) of every valid scene estimated above budget_s."""
     from ..limits import estimated_wall_time
 
-    expand(config)
+    config = expand(config)
     out = []
     for f in figures(config):
         for s in scenes(config, f):
@@ -312,16 +323,18 @@ def costly_scenes(config: dict[str, Any], budget_s: float) -> list[tuple[str, st
     return out
 
 
-def check(config: dict[str, Any], files: list[str | Path] = (), schema_path: str | Path = SCHEMA) -> None:
+def check(config: dict[str, Any], files: list[str | Path] = (), schema_path: str | Path = SCHEMA) -> Expanded:
     """Everything the workflow checks at start-up, before any job: each config file read
     strictly, the schema, every scene built (its physics validation) and the figure-kind
-    rules.  Expands the stability maps' sweeps into scenes, in place."""
+    rules. Returns the expanded config (sweeps and seed ensembles as scenes) the rules use;
+    the given one is left as it is."""
     for f in files:
         read_config(f)
     check_schema(config, schema_path)
-    expand(config)
+    config = expand(config)
     validate(config)
     check_paper(config)
+    return config
 
 
 def check_paper(config: dict[str, Any], root: str | Path = ROOT) -> None:
@@ -355,7 +368,7 @@ def _seeds_text(built: dict[str, Scene]) -> str:
 
 def validate(config: dict[str, Any]) -> None:
     """Build every scene and check the figure-kind rules; raise ConfigError naming the entry."""
-    expand(config)
+    config = expand(config)
     if not figures(config):
         raise ConfigError("config has no figures: nothing to build")
     for f in figures(config):
@@ -413,7 +426,7 @@ def read_figures(config: dict[str, Any], figure: str) -> dict[str, str]:
 def caption(config: dict[str, Any], figure: str) -> str:
     """Plain-text caption: what the figure shows and with which parameters (those common to
     all its scenes; the ones it varies are named in the body)."""
-    expand(config)
+    config = expand(config)
     fig = config["figures"][figure]
     module = kinds.get(fig["kind"])
     head = f"{fig.get('title', figure)} {kinds.origin(fig)}."

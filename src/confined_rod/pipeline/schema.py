@@ -49,7 +49,7 @@ def figure_schema() -> dict[str, Any]:
             "paper_figure": {"type": "integer", "minimum": 1, "maximum": 8},
             "title": {"type": "string", "minLength": 1},
             "defaults": {"$ref": "#/$defs/scene", "description": "parameters applied to every scene of this figure"},
-            "scenes": {"type": "object", "propertyNames": {"pattern": "^[A-Za-z0-9_-]+$"},
+            "scenes": {"type": "object", "propertyNames": {"pattern": f"^{layout.NAME_PATTERN}$"},
                        "additionalProperties": {"$ref": "#/$defs/scene"},
                        "description": "scene id -> parameters; required and non-empty unless the kind makes "
                                       "its scenes itself (stability_map: from sweeps)"},
@@ -78,7 +78,7 @@ def build_schema() -> dict[str, Any]:
                 "type": "object", "additionalProperties": False, "required": ["manuscript", "claims"],
                 "description": "build the reproduction manuscript (rule paper) from this config's datasets",
                 "properties": {
-                    "manuscript": {"type": "string", "pattern": "^paper/[A-Za-z0-9_-]+[.]tex$",
+                    "manuscript": {"type": "string", "pattern": f"^paper/{layout.NAME_PATTERN}[.]tex$",
                                    "description": f"LaTeX source in paper/; built to {layout.paper_pdf('<name>')}"},
                     "claims": {"type": "string", "pattern": "^paper/[A-Za-z0-9_/-]+[.]yaml$",
                                "description": "the original's claims and how each is tested"},
@@ -86,7 +86,7 @@ def build_schema() -> dict[str, Any]:
                               "maxItems": 2, "description": "[min, max] pages the PDF check expects"},
                 },
             },
-            "figures": {"type": "object", "minProperties": 1, "propertyNames": {"pattern": "^[A-Za-z0-9_-]+$"},
+            "figures": {"type": "object", "minProperties": 1, "propertyNames": {"pattern": f"^{layout.NAME_PATTERN}$"},
                         "additionalProperties": {"$ref": "#/$defs/figure"}},
         },
         "$defs": {"scene": scene_schema(), "figure": figure_schema()},

@@ -86,8 +86,8 @@ def stale_inputs(config: dict[str, Any], figure: str, scene: str, path: str) -> 
 
 def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
     """Every artifact a full run of this config produces, by kind (sweeps and ensembles
-    expanded into scenes, in place)."""
-    expand(config)
+    expanded into scenes)."""
+    config = expand(config)
     out: dict[str, list[str]] = {"sims": [], "datasets": [], "figures": [], "checks": []}
     for f in figures(config):
         out["sims"] += [p for p in figure_sims(config, f) if p not in out["sims"]]

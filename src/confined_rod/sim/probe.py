@@ -22,11 +22,11 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DivergenceError, ResourceLimitError
-from ..quantities import variable
+from ..quantities import PROBE_STATUS, variable
 from .scenes import Scene, SceneError
 from .simulation import simulate
 
-STATUS = ("converged", "not_converged", "escaped", "diverged", "invalid", "model_violated", "step_cap")
+STATUS = PROBE_STATUS
 STATUS_ATTRS = {"flag_values": np.arange(len(STATUS), dtype=np.int8), "flag_meanings": " ".join(STATUS)}
 
 
@@ -46,8 +46,7 @@ def probe(params: Mapping[str, Any]) -> xr.Dataset:
         except ResourceLimitError as e:  # names the parameter (snapshot_interval), like a refused scene
             status, message = "invalid", str(e)
         else:
-            # the run's own status and reason (simulation.STATUS); a time cap is "not_converged" here
-            status = {"time_cap": "not_converged"}.get(ds.attrs["status"], ds.attrs["status"])
+            status = ds.attrs["status"]     # the run's own status and reason (quantities.RUN_STATUS)
             message, steps = ds.attrs["status_reason"], int(ds.n_steps)
             if status != "model_violated":  # a state outside the model carries no force worth storing
                 F, has_force = float(ds.F_transmitted), 1

@@ -8,13 +8,13 @@ import xarray as xr
 
 from ..io import finalize
 from ..limits import equilibrium_tol, state_violations
-from ..quantities import variable
+from ..quantities import RUN_STATUS, variable
 from . import observables as obs
 from .scenes import Scene
 from .solvers import SOLVERS
 
 #: how a run ended (the dataset's ``status`` flag; ``status_reason`` says why)
-STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
+STATUS = RUN_STATUS
 WORK_COUNTERS = ("newton_iterations", "gradients", "factorisations", "rejected_steps")
 
 

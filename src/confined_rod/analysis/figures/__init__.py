@@ -1,26 +1,43 @@
 """Figure kinds, one module each, found by name: ``confined_rod/analysis/figures/<kind>.py``.
 
-A kind module holds everything about one kind of figure:
+A kind module holds everything about one kind of figure. What the pipeline asks of it (the
+one place this protocol is written down):
 
-    OPTIONS   JSON-schema properties of the kind's own config entries (the config
-              schema is generated from them: ``python -m confined_rod schema``)
-    SOURCE    "simulate" (default), "probe" or "path": the rule that makes its scene
-              files (a "path" kind also defines path_spec(fig_cfg, scene): what the
-              rule load_path runs for that scene, see confined_rod.sim.load_paths.run_spec)
-    validate(figure, fig_cfg, built)   built: scene id -> Scene; raise ConfigError
-    varied(fig_cfg)                    scene parameters that differ between its scenes
-    caption(figure, fig_cfg, built)    what the figure shows (the pipeline adds the title
-                                       and the common parameters)
+Required
+    OPTIONS                            JSON-schema properties of the kind's own config entries
+                                       (the config schema is generated from them:
+                                       ``python -m confined_rod schema``)
+    validate(figure, fig_cfg, built)   built: scene id -> Scene; raise ConfigError naming the entry
+                                       (may take ``publication_value=``: the ladder's setting)
+    caption(figure, fig_cfg, built)    what the figure shows (the pipeline adds the title and the
+                                       parameters its scenes share; may take ``publication_value=``)
     build(fig_cfg, sims, context)      scene id -> scene dataset  =>  the figure's dataset
-    READS     optional: {option: kinds}, options that name another figure of the config
-              whose dataset the builder reads (context["datasets"][name]); e.g. the
-              jamming map's measured fold/escape thresholds from the Fig 8 figure
     plot(ds)                           the figure's dataset  =>  a matplotlib Figure
 
-Adding a kind is one new module here and its entry in a config (then regenerate the
-schema). The modules are post-processing: they read datasets and never import the
-simulator (``tests/test_pipeline.py`` checks this); validation receives Scene
-objects built by :mod:`confined_rod.pipeline`.
+Optional (absent: the default in brackets)
+    SOURCE              "simulate", "probe" or "path": the rule that makes its scene files
+                        ["simulate"]; a "path" kind also defines ``path_spec(fig_cfg, scene)``,
+                        what the rule load_path runs (confined_rod.sim.load_paths.run_spec)
+    varied(fig_cfg)     the scene parameters that differ between its scenes [none]
+    ENSEMBLES           True if its scenes may be seed ensembles (``seeds: n``) [False]
+    HANDLES_UNSETTLED   True if it sorts out runs not at equilibrium itself (the paired ladders
+                        leave a seed out at every rung) [the postprocess step leaves them out of
+                        their ensemble]
+    READS               {option: kinds}: options naming another figure of the config whose
+                        dataset the builder reads (context["datasets"][name]) [none]
+    expand_sweeps(fig_cfg)      turns the kind's sweeps into scenes, in the config [none]
+    validate_config(figure, fig_cfg, scene_fields)  for kinds whose scenes may be invalid on
+                        purpose (a stability map's refused points): replaces validate and the
+                        building of every scene; its caption is then caption(figure, fig_cfg)
+    meta(fig_cfg, used)         the dataset's attributes in place of the shared scene
+                                parameters [those of the first scene]
+    check(ds, figure, on_inconclusive)  a verdict that can fail the build (rule
+                        convergence_check: the convergence ladders) [none]
+
+Adding a kind is one new module here and its entry in a config (then regenerate the schema).
+The modules are post-processing: they read datasets and never import the simulator (the import
+contracts in pyproject.toml); validation receives Scene objects built by
+:mod:`confined_rod.pipeline`.
 """
 from __future__ import annotations
 

@@ -30,6 +30,7 @@ import xarray as xr
 
 from ... import theory
 from ...errors import ConfigError
+from ...limits import ESCAPE_RADIUS
 from .. import plotting as P
 from ..quantities import label, variable
 from ._common import check_scene_keys, scene_coord
@@ -45,7 +46,6 @@ OPTIONS = {
                    "description": "the load (EI/R^2) at which the paper shows the event"},
 }
 START, FOLDED = 0.8, 0.5  # L_z/L of the fold's frames (a) and (b)
-ESCAPE_RADIUS = 1.1  # R: a link end this far from the axis above the entrance has left (model.kernels.escaped)
 VIEW = 24.0  # R: the frames show the top of the pore, this far below the entrance, and what is above it
 
 

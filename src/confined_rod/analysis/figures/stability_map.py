@@ -138,7 +138,7 @@ def classify(fig_cfg, names, probes, solver, param) -> tuple[list[str], list[str
     outcome = []
     for i, st in enumerate(status):
         if st != "converged":
-            outcome.append({"not_converged": "capped", "step_cap": "capped", "invalid": "refused"}.get(st, st))
+            outcome.append({"time_cap": "capped", "step_cap": "capped", "invalid": "refused"}.get(st, st))
             continue
         ref = base.get(solver[i], next(iter(base.values()), None))
         if param[i] not in NUMERICAL or ref is None:

@@ -16,6 +16,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ...limits import ESCAPE_RADIUS
+
 # indices into the parameter vector ``par``
 HALF = 0  # l0/2
 K_BOND = 1  # k = k_ph/l0
@@ -339,11 +341,11 @@ def euler_update(r, t, F, M, dt, par):
 
 @njit(cache=True)
 def escaped(r, t, par):
-    """True if a link end is above the open pore entrance and more than 0.1 R
-    outside the pore radius: it has left the pore (the block around the pore
-    would stop it from coming back below the entrance)."""
+    """True if a link end is above the open pore entrance and farther than ESCAPE_RADIUS
+    from the axis: it has left the pore (the block around the pore would stop it from
+    coming back below the entrance)."""
     h = par[HALF]
-    lim = 1.1 * par[R_WALL]
+    lim = ESCAPE_RADIUS * par[R_WALL]
     for i in range(r.shape[0]):
         for sgn in (-1.0, 1.0):
             z = r[i, 2] + sgn * h * t[i, 2]
