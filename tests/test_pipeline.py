@@ -305,3 +305,18 @@ def test_code_inputs_follow_the_imports_and_never_reach_the_simulator():
     assert not any(r.startswith(("analysis/", "claims/", "pipeline/")) for r in sim), sorted(sim)
     assert "claims/manuscript.py" not in rel(code.claims_code())
     assert "claims/manuscript.py" in rel(code.paper_code())
+
+
+def test_expand_leaves_the_config_as_it_is_and_its_result_pickles_as_a_plain_dict():
+    """The expanded config goes to every job's script by pickle: unpickling it must not import
+    this package (a job puts its own checkout's src/ first only after the preamble)."""
+    import pickle
+
+    config = {"figures": {"f": {"kind": "transmitted_force", "defaults": {"seeds": 2}, "scenes": {"L20": {"L": 20}}}}}
+    before = copy.deepcopy(config)
+    out = pipeline.expand(config)
+    assert config == before
+    assert list(out["figures"]["f"]["scenes"]) == ["L20-s0", "L20-s1"]
+    assert pipeline.expand(out) is out
+    assert type(pickle.loads(pickle.dumps(out))) is dict
+    assert b"confined_rod" not in pickle.dumps(out)

@@ -48,15 +48,42 @@ STYLE = {
     "savefig.dpi": 200,
     "savefig.bbox": "tight",
 }
+# What a figure draws, by role: the kinds plot with these styles and their captions name them
+# with words(style), so that a caption says what the figure shows.
 SIM = dict(color="black")
 FIT = dict(color="tab:red", lw=1.2)
 MODEL = dict(color="tab:blue", ls="--", lw=1.2)
 PAPER = dict(color="0.45", ls=":", lw=1.2)
 #: the paper's printed fit, drawn beside ours
 PAPER_FIT = dict(color="tab:orange", ls="-.", lw=1.3)
+#: the single seeds of an ensemble (dots, thin lines)
+SEEDS = dict(color="0.6")
+#: eye guides and reference lines
+GUIDE = dict(color="0.6", lw=0.7)
+#: points singled out (a handedness reversal, a seed that ends in another state)
+MARK = dict(color="tab:red")
+#: the stretch of the rod on the wall
+CONTACT = dict(color="0.93")
+#: the loads above which a rod folds instead of coiling (the jamming map's plane)
+FOLDED = dict(color="0.88")
+#: the range of |F_z(s)| over a panel's seeds
+ENSEMBLE_BAND = dict(color="#b9d7ea")
+#: the three regions of a loaded rod (analysis.regions), shaded
+REGIONS = {"tip": dict(color="#f6d8b8"), "bulk": dict(color="#d5ecd4"), "lower": dict(color="#dcdcef")}
+COLOR_WORDS = {"black": "black", "tab:red": "red", "tab:blue": "blue", "tab:orange": "orange", "tab:green": "green",
+               "0.45": "grey", "0.6": "grey", "0.88": "light grey", "0.93": "light grey", "#b9d7ea": "light blue", "#f6d8b8": "orange",
+               "#d5ecd4": "green", "#dcdcef": "violet"}
+LINE_WORDS = {"-": "", "--": "dashed", ":": "dotted", "-.": "dash-dotted"}
 
 __all__ = ["plt", "np", "STYLE", "TEXT_WIDTH_IN", "MAX_HEIGHT_IN", "MIN_FONT_PT", "SMALL", "SIM", "FIT", "MODEL",
-           "PAPER", "PAPER_FIT", "plot", "plain_log_ticks", "params_text", "bottom_legend"]
+           "PAPER", "PAPER_FIT", "SEEDS", "GUIDE", "MARK", "CONTACT", "FOLDED", "ENSEMBLE_BAND", "REGIONS", "words", "plot",
+           "plain_log_ticks", "params_text", "bottom_legend"]
+
+
+def words(style: dict) -> str:
+    """How a caption names a style: 'black', 'blue dashed', 'grey dotted' (KeyError for a colour
+    without words: add it to COLOR_WORDS)."""
+    return " ".join(w for w in (COLOR_WORDS[style["color"]], LINE_WORDS[style.get("ls", "-")]) if w)
 
 
 def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:

@@ -154,7 +154,12 @@ def _key(params: dict[str, Any]) -> str:
 
 
 class Expanded(dict):
-    """A config whose sweeps and seed ensembles are scenes (made by :func:`expand` only)."""
+    """A config whose sweeps and seed ensembles are scenes (made by :func:`expand` only). It
+    pickles as a plain dict: Snakemake hands the config to every job's script, which must not
+    import this package before the job's own checkout is on the path (workflow/scripts/_checkout.py)."""
+
+    def __reduce__(self):
+        return dict, (dict(self),)
 
 
 def expand_sweeps(config: dict[str, Any]) -> None:

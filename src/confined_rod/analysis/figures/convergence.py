@@ -121,7 +121,8 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
                 f"equilibrium at some rung, capped or on a saddle, is left out at every rung and named in the "
                 f"verdict): ensemble means of the "
                 f"transmitted force, L_z and {PITCH_PANEL} against the refinement variable (error bars two standard "
-                f"errors), grey dots and lines the single seeds, red circles the seeds that end in another final "
+                f"errors), {P.words(P.SEEDS)} dots and lines the single seeds, {P.words(P.MARK)} circles the seeds "
+                f"that end in another final "
                 f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band "
                 f"of +-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The rungs are compared "
                 f"seed by seed: the publication value {p} = {publication_value:g} passes when the mean paired change "
@@ -131,7 +132,7 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
     if n > 1:
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}), each rung a seed ensemble of "
                 f"{n:g} runs: ensemble means of the transmitted force, L_z and {PITCH_PANEL} against the refinement "
-                f"variable, error bars two standard errors, grey dots the single seeds; the band of "
+                f"variable, error bars two standard errors, {P.words(P.SEEDS)} dots the single seeds; the band of "
                 f"+-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The publication value "
                 f"{p} = {publication_value:g} passes when its difference from every finer rung plus two combined "
                 "standard errors is within the tolerance and fails when the difference minus two standard errors "
@@ -606,10 +607,10 @@ def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> N
     seeds, v = ds["member_seed"].values, ds[f"{k}_member"].values
     for s in np.unique(seeds[has]):
         at = [(h[i], v[i, list(seeds[i]).index(s)]) for i in range(len(h)) if s in seeds[i][has[i]]]
-        ax.plot(*zip(*at), "-", color="0.75", lw=0.5, zorder=1)
+        ax.plot(*zip(*at), "-", **P.SEEDS, lw=0.5, zorder=1)
     moved = (ds["state_changed_member"].values == 1) & has
     if moved.any():
-        ax.plot(np.broadcast_to(h[:, None], has.shape)[moved], v[moved], "o", ms=6, mfc="none", mec="tab:red",
+        ax.plot(np.broadcast_to(h[:, None], has.shape)[moved], v[moved], "o", ms=6, mfc="none", mec=P.MARK["color"],
                 mew=0.9, label="seed in another final state")
 
 
@@ -633,7 +634,7 @@ def plot(ds: xr.Dataset):
             hm = np.broadcast_to(h[:, None], has.shape)
             if k == "pitch":        # a member with less than a turn has no pitch (0)
                 has = has & (ds[f"{k}_member"].values > 0)
-            ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, color="0.6", label="single seeds")
+            ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, **P.SEEDS, label="single seeds")
             if "state_changed_member" in ds:
                 _seed_lines(ax, ds, k, h, has)
             ax.errorbar(h, f, yerr=Z_AGREE * ds[f"{k}_sem"].values, fmt="none", ecolor="black", elinewidth=0.9,

@@ -46,7 +46,6 @@ OPTIONS = {
 }
 
 
-ENSEMBLE_BAND = "#b9d7ea"  # range of |F_z(s)| over a panel's seeds
 MIN_CONTACT = 5  # links on the wall below which a profile is not a wall-contact helix
 ENSEMBLES = True
 
@@ -89,25 +88,31 @@ def caption(figure, fig_cfg, built) -> str:
                                          for i, s in enumerate(built.values())) + "."
     else:
         body += f", k_fr = {sc.k_fr:g}."
-    body += (" Black: simulation; red: fit A (l0' + s)^c over the wall-contact stretch (not drawn, and c 'not "
-             "determined', where |F_z| falls by less than 2x over it or c reaches the fit's bound; grey band; "
-             f"trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; values and standard errors in the "
-             "panel and the dataset); blue dashed: simple model (1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 "
-             f"from the start of the helix on the wall s_h (the first run of at least {HELIX_RUN} links on the wall; a "
-             "detached tip's isolated contacts are not part of it); grey dotted: the same with the paper's 2EI.")
+    sim, fit, model, paper = (P.words(x) for x in (P.SIM, P.FIT, P.MODEL, P.PAPER))
+    region = {k: P.words(v) for k, v in P.REGIONS.items()}
+    body += (f" {sim.capitalize()}: simulation; {fit}: fit A (l0' + s)^c over the wall-contact stretch "
+             f"({P.words(P.CONTACT)} band; not drawn, and c 'not determined', where |F_z| falls by less than 2x "
+             f"over it or c reaches the fit's bound; trimmed by {fig_cfg.get('fit_trim', 0):g} R at each end; "
+             f"values and standard errors in the panel and the dataset); {model}: simple model "
+             "(1/|F_z(s_h)| + k_fr R (s - s_h)/(4EI))^-1 from the start of the helix on the wall s_h (the first "
+             f"run of at least {HELIX_RUN} links on the wall; a detached tip's isolated contacts are not part of "
+             f"it); {paper}: the same with the paper's 2EI.")
     body += (" Lower row: 1/|F_z| against s, with the three regions of the rod found from the data "
-             "(confined_rod.analysis.regions): the tip at the loaded end (orange), the bulk helix where the wall friction is "
-             "axial and at its Coulomb limit (green), and the lower region where it is stuck or azimuthal (violet). "
-             "In the bulk the simple model's argument holds locally if d(1/|F_z|)/ds = k_fr R/(4EI) (blue dashed, "
-             "from the start of the bulk); the paper's K = R F^2/(2EI) gives twice that (grey dotted). The number is "
-             "the fitted bulk slope over k_fr R/(4EI), its uncertainty the difference between the bulk's halves.")
+             f"({regions.__name__}): the tip at the loaded end ({region['tip']}), the bulk helix where "
+             f"the wall friction is axial and at its Coulomb limit ({region['bulk']}), and the lower region where "
+             f"it is stuck or azimuthal ({region['lower']}). In the bulk the simple model's argument holds locally "
+             f"if d(1/|F_z|)/ds = k_fr R/(4EI) ({model}, from the start of the bulk); the paper's K = R F^2/(2EI) "
+             f"gives twice that ({paper}). The number is the fitted bulk slope over k_fr R/(4EI), its uncertainty "
+             "the difference between the bulk's halves.")
     if n_members > len(built):
         n = n_members / len(built)
-        body += (f" Each panel is a seed ensemble of {n:g} runs: the black profile and the fit are those of the "
-                 "lowest seed, the light blue band the range of |F_z(s)| over the seeds, and F(L)/F(0) and c are "
+        body += (f" Each panel is a seed ensemble of {n:g} runs: the {sim} profile and the fit are those of the "
+                 f"lowest seed, the {P.words(P.ENSEMBLE_BAND)} band the range of |F_z(s)| over the seeds, and "
+                 "F(L)/F(0) and c are "
                  "given as the ensemble mean +- standard deviation (every member in the dataset).")
     if fig_cfg.get("paper_fits"):
-        body += (" Orange dash-dotted: the paper's printed fit (its A, l0', c in the panel); F(L)/F(0) is the "
+        body += (f" {P.words(P.PAPER_FIT).capitalize()}: the paper's printed fit (its A, l0', c in the panel); "
+                 "F(L)/F(0) is the "
                  "transmitted fraction of our rod and of the printed fit, f(L)/f(0). The difference is a result, "
                  "not a tuning target (docs/model.md, 'Where the paper's fits disagree with ours').")
     if sc.bending_constant == "paper":
@@ -386,7 +391,7 @@ def _build(fig_cfg, sims) -> xr.Dataset:
                      "fit_method": "scipy.optimize.curve_fit, relative residuals (sigma = |F_z|), A > 0, l0' > 0",
                      "fit_window": "joints of the wall-contact stretch (from the first to the last run of at least "
                                    f"{HELIX_RUN} links on the wall: measure.contact_range), trimmed by fit_trim",
-                     "regions": (f"confined_rod.analysis.regions: bulk = longest stretch where the axial friction utilisation, "
+                     "regions": (f"{regions.__name__}: bulk = longest stretch where the axial friction utilisation, "
                                  f"averaged over {regions.WINDOW_R:g} R, is >= {regions.Q_BULK:g}; tip before it, "
                                  "lower region after it; decay rates are slopes of 1/|F_z| against s, uncertainty "
                                  "max(s.e., half the difference of the two halves)"),
@@ -396,7 +401,6 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     return ds
 
 
-REGION_COLORS = {"tip": "#f6d8b8", "bulk": "#d5ecd4", "lower": "#dcdcef"}
 
 
 def _plot_local_law(ax, d, s) -> None:
@@ -406,7 +410,7 @@ def _plot_local_law(ax, d, s) -> None:
     if int(d.has_bulk):
         for name, lo, hi in (("tip", 0.0, float(d.s_bulk_start)), ("bulk", float(d.s_bulk_start), float(d.s_bulk_end)),
                              ("lower", float(d.s_bulk_end), float(s[-1]))):
-            ax.axvspan(lo, hi, color=REGION_COLORS[name], lw=0, zorder=0, label=f"{name} region")
+            ax.axvspan(lo, hi, **P.REGIONS[name], lw=0, zorder=0, label=f"{name} region")
         s_b = float(d.s_bulk_start)
         inv_b = float(np.interp(s_b, s, inv))
         x = np.linspace(s_b, float(s[-1]), 50)
@@ -525,9 +529,9 @@ def plot(ds: xr.Dataset):
     for i, ax in enumerate(axes[0]):
         d = ds.isel(panel=i)
         w = d["in_fit"].values == 1
-        ax.axvspan(float(d.s_h), float(d.s_end), color="0.93", zorder=0, lw=0, label="wall contact")
+        ax.axvspan(float(d.s_h), float(d.s_end), **P.CONTACT, zorder=0, lw=0, label="wall contact")
         if "F_abs_min" in ds:
-            ax.fill_between(s, d["F_abs_min"], d["F_abs_max"], color=ENSEMBLE_BAND, lw=0, zorder=1,
+            ax.fill_between(s, d["F_abs_min"], d["F_abs_max"], **P.ENSEMBLE_BAND, lw=0, zorder=1,
                             label=f"range over {int(d.n_seeds)} seeds")
         ax.plot(s, d["F_abs"], lw=2.2, **P.SIM,
                 label="simulation" if "shown_seed" not in ds else "simulation, lowest seed")

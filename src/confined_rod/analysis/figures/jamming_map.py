@@ -92,15 +92,17 @@ def caption(figure, fig_cfg, built) -> str:
             + " for loads " + ", ".join(f"{v:g}" for v in g["load"]) + " EI/R^2 (colours), one panel per k_fr = "
             + ", ".join(f"{v:g}" for v in g["k_fr"])
             + ("" if n <= 1 else f"; symbols the mean over {n:g} seeds, error bars one standard deviation")
-            + "; dashed: the corrected simple model 1/(1 + k_fr R L F0/(4EI)); grey line: one half. Last panel: the "
+            + f"; dashed: the corrected simple model 1/(1 + k_fr R L F0/(4EI)); {P.words(P.GUIDE)} line: one half. "
+            "Last panel: the "
             "length L_half at which the fraction first falls below 1/2 against the load, measured (symbols; open: a "
             "bound, the grid does not bracket it) and from the simple model, 4EI/(k_fr R F0) (lines), in the "
             "(L/R, load) plane: left of the model's curve the rod passes more than half the load, right of it less "
             "(a measured L_half is only where the mean fraction first falls below 1/2 on the grid); dotted: "
             "4/(3 sqrt 3) EI/R^2, the largest load a helix on the wall can carry"
             + ("" if not fig_cfg.get("thresholds") else
-               f"; red: the loads above which the rod folds instead of coiling (closed entrance, as the map's "
-               f"rods), measured in {fig_cfg['thresholds']} (bars: the bisection bracket), grey above them; the "
+               f"; {P.words(P.MARK)}: the loads above which the rod folds instead of coiling (closed entrance, as "
+               f"the map's rods), measured in {fig_cfg['thresholds']} (bars: the bisection bracket), "
+               f"{P.words(P.FOLDED)} above them; the "
                "open-entrance escape thresholds are in the dataset") + ".")
 
 
@@ -213,7 +215,7 @@ def plot(ds: xr.Dataset):
             if (~ok).any():
                 ax.plot(L[~ok], f[~ok], "o", ms=4, mfc="white", mec=c)
             ax.plot(ds["L_model"], ds["fraction_model"].values[j, k], "--", color=c, lw=1.0)
-        ax.axhline(0.5, color="0.6", lw=0.8)
+        ax.axhline(0.5, **P.GUIDE)
         P.log_axes(ax)
         ax.set_xlabel(label("L"))
         ax.set_ylabel(r"$|F_z(L)|/|F_z(0)|$")
@@ -223,7 +225,7 @@ def plot(ds: xr.Dataset):
     for ax in flat[n:]:
         ax.axis("off")
     handles, labels = flat[0].get_legend_handles_labels()
-    handles += [Line2D([], [], ls="--", color="black", lw=1.0), Line2D([], [], color="0.6", lw=0.8)]
+    handles += [Line2D([], [], ls="--", color="black", lw=1.0), Line2D([], [], **P.GUIDE)]
     labels += ["corrected simple model (dashed)", "one half"]
     if (ds["converged"].values != 1).any():
         handles.append(Line2D([], [], ls="", marker="o", ms=4, mfc="white", mec="black"))
@@ -270,10 +272,10 @@ def _plane(ax, ds: xr.Dataset) -> tuple[list, list]:
         lo, hi = ds["boundary_load_lo"].values, ds["boundary_load_hi"].values
         closed = ds["boundary_free_span"].values == 0    # the map's rods: closed entrance, they can only fold
         if closed.any():
-            ax.errorbar(a[closed], 0.5 * (lo + hi)[closed], yerr=0.5 * (hi - lo)[closed], fmt="v", color="tab:red",
+            ax.errorbar(a[closed], 0.5 * (lo + hi)[closed], yerr=0.5 * (hi - lo)[closed], fmt="v", **P.MARK,
                         ms=5, capsize=2, label="rod folds above (Fig 8)")
             order = np.argsort(a[closed])
-            ax.fill_between(a[closed][order], lo[closed][order], 10 * top, color="0.88", lw=0, zorder=0)
+            ax.fill_between(a[closed][order], lo[closed][order], 10 * top, **P.FOLDED, lw=0, zorder=0)
     P.log_axes(ax)
     ax.set_xlim(0.7 * float(ds["L"].min()), 1.6 * float(ds["L"].max()))
     ax.set_ylim(0.5 * loads.min(), 1.6 * top)

@@ -41,14 +41,15 @@ def caption(figure, fig_cfg, built) -> str:
     sc = next(iter(built.values()))
     return (f"Pitch rate dphi/ds (the inverse of the helical pitch, q0 = 2 pi/(dphi/ds)) along the wall-contact "
             f"stretch of the rod of L/R = {sc.L:g}, k_fr = {sc.k_fr:g} (the rod of Fig 4(c), same simulation). "
-            "(a) |dphi/ds| of the link centres on the wall (black; links off the wall inside the stretch omitted), "
-            "reversals of handedness marked by red triangles; blue dashed: the pitch rate a torque-free helix "
-            "carrying the local |F_z| would have, 2 EI omega^2 sqrt(1 - R^2 omega^2) = |F_z| with omega = |dphi/ds|; "
-            "grey dotted: its lowest order sqrt(|F_z|/2EI) (paper's Eq. dotphi). (b) |F_z(s)| (black) against the "
-            "same relation evaluated with the measured pitch (red), and their ratio in the dataset. The bulk (middle "
-            "80 % of the stretch, "
-            "between the grey lines) gives the slope of ln|dphi/ds| against ln|F_z| and the relative decreases "
-            "that test the paper's claim.")
+            f"(a) |dphi/ds| of the link centres on the wall ({P.words(P.SIM)}; links off the wall inside the "
+            f"stretch omitted), reversals of handedness marked by {P.words(P.MARK)} triangles; "
+            f"{P.words(P.MODEL)}: the pitch rate a torque-free helix carrying the local |F_z| would have, "
+            "2 EI omega^2 sqrt(1 - R^2 omega^2) = |F_z| with omega = |dphi/ds|; "
+            f"{P.words(P.PAPER)}: its lowest order sqrt(|F_z|/2EI) (paper's Eq. dotphi). (b) |F_z(s)| "
+            f"({P.words(P.SIM)}) against the same relation evaluated with the measured pitch ({P.words(P.MARK)}), "
+            "and their ratio in the dataset. The bulk (middle 80 % of the stretch, between the "
+            f"{P.words(P.GUIDE)} lines) gives the slope of ln|dphi/ds| against ln|F_z| and the relative "
+            "decreases that test the paper's claim.")
 
 
 def build(fig_cfg, sims, context=None) -> xr.Dataset:
@@ -153,7 +154,7 @@ def plot(ds: xr.Dataset):
            label=r"lowest order $\sqrt{|F_z|/2EI}$ (paper's Eq. dotphi)")
     if ds.sizes.get("reversal_index", 0):
         top = float(np.nanmax(w_line)) * 1.08
-        a.plot(ds["s_reversal"], np.full(ds.sizes["reversal_index"], top), "v", color="tab:red", ms=6,
+        a.plot(ds["s_reversal"], np.full(ds.sizes["reversal_index"], top), "v", **P.MARK, ms=6,
                label="reversal of handedness")
     a.set_ylabel(r"$|d\phi/ds|$ [$1/R$]")
     a.set_ylim(0, None)
@@ -164,7 +165,7 @@ def plot(ds: xr.Dataset):
            "(simple model: 0.5)", transform=a.transAxes, fontsize=7.5, va="bottom")
     F_line = np.where(ok, ds["F_helix"].values, np.nan)
     b.plot(s, ds["F_link"], **P.SIM, lw=1.6, label=r"$|F_z(s)|$, simulation")
-    b.plot(s, F_line, color="tab:red", lw=1.0, label=r"$2EI\omega^2\sqrt{1-R^2\omega^2}$, measured $\omega$")
+    b.plot(s, F_line, **P.MARK, lw=1.0, label=r"$2EI\omega^2\sqrt{1-R^2\omega^2}$, measured $\omega$")
     b.set_yscale("log")
     P.plain_log_ticks(b.yaxis)
     b.set_ylabel(label("F_abs"))
@@ -175,8 +176,8 @@ def plot(ds: xr.Dataset):
     b.set_title("(b) axial force against the local helix relation", fontsize=9, loc="left")
     for ax in (a, b):
         if bulk.size:
-            ax.axvline(bulk[0], color="0.7", lw=0.7)
-            ax.axvline(bulk[-1], color="0.7", lw=0.7)
+            ax.axvline(bulk[0], **P.GUIDE)
+            ax.axvline(bulk[-1], **P.GUIDE)
     fig.suptitle(P.params_text(ds, ("L", "load", "k_fr", "l0")), fontsize=9)
     fig.tight_layout()
     return fig

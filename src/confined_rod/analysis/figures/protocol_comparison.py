@@ -92,11 +92,13 @@ def caption(figure, fig_cfg, built) -> str:
                      + (f" ({', '.join(extra)})" if extra else "") + f", {len(members)} seeds")
     return (f"How the loading path sets the equilibrium of one rod, L/R = {first.L:g}, load {first.load:g} EI/R^2, "
             f"k_fr = {first.k_fr:g}, l0 = {float(first.l0):g} R unless stated. Variants: " + "; ".join(parts) + ". "
-            "Per variant (rows) the single seeds (grey) and their mean +- standard deviation (black): (a) the "
+            f"Per variant (rows) the single seeds ({P.words(P.SEEDS)}) and their mean +- standard deviation "
+            f"({P.words(P.SIM)}): (a) the "
             "transmitted fraction F(L)/F(0); (b) the length of the lower region, where the wall friction is stuck "
-            "or azimuthal and |F_z| nearly flat (confined_rod.analysis.regions); (c) the number of reversals of handedness "
+            f"or azimuthal and |F_z| nearly flat ({regions.__name__}); (c) the number of reversals of "
+            "handedness "
             "of the wall-contact stretch; (d) the decay rate d(1/|F_z|)/ds in the bulk helix over the corrected "
-            "local law k_fr R/(4EI) (dashed: 1; the paper's K gives 2).")
+            f"local law k_fr R/(4EI) ({P.words(P.MODEL)}: 1; the paper's K gives 2, {P.words(P.PAPER)}).")
 
 
 def _member_values(d: xr.Dataset) -> dict[str, float]:
@@ -343,11 +345,11 @@ def _plot_variants(ds: xr.Dataset, axes) -> None:
         for i in range(n):
             jitter = np.linspace(-0.12, 0.12, vals.shape[1])
             m = ok[i]
-            ax.plot(vals[i][m], (y[i] + jitter)[m], ".", ms=3.5, color="0.55",
+            ax.plot(vals[i][m], (y[i] + jitter)[m], ".", ms=3.5, **P.SEEDS,
                     label="single seeds" if i == 0 else None)
             if m.any():
                 ax.errorbar(float(ds[f"{key}_mean"].values[i]), y[i], xerr=float(ds[f"{key}_std"].values[i]),
-                            fmt="o", ms=4, color="black", capsize=2, label="mean $\\pm$ s.d." if i == 0 else None)
+                            fmt="o", ms=4, **P.SIM, capsize=2, label="mean $\\pm$ s.d." if i == 0 else None)
         shown = vals[ok]
         if key == "fraction" and shown.size and shown.min() > 0 and shown.max() / shown.min() > 10:
             ax.set_xscale("log")        # fractions over a decade and more: the small ones stay apart

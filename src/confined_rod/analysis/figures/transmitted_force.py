@@ -40,14 +40,16 @@ def caption(figure, fig_cfg, built) -> str:
     Ls = ", ".join(f"{L:g}" for L in sorted({s.L for s in built.values()}))
     n = len(built) / len({(s.L, s.pore_length) for s in built.values()})
     points = (f"symbols: the mean over a seed ensemble of {n:g} runs per length, error bars one standard deviation, "
-              "grey dots the single seeds" if n > 1 else "symbols: simulations")
+              f"{P.words(P.SEEDS)} dots the single seeds" if n > 1 else "symbols: simulations")
     return (f"Force |F_z(L)| transmitted to the lower piston against the rod length L/R = {Ls}, "
             f"k_fr = {sc.k_fr:g}; {points} (open = not converged), lines: the simple model "
-            f"|F_z(L)| = (1/|F_z(0)| + k_fr R L/(4EI))^-1 (dashed, corrected) and the paper's form with "
-            f"2EI (dotted); grey line: eye guide. (b) The local decay law in the bulk helix of each length "
-            "(confined_rod.analysis.regions: the stretch where the wall friction is axial and at its Coulomb limit): the "
-            "slope d(1/|F_z|)/ds fitted there, over the corrected k_fr R/(4EI) (dashed line at 1); the paper's "
-            "K = R F^2/(2EI) gives 2 (dotted). Lengths without a bulk helix (the short rods, which jam at a few "
+            f"|F_z(L)| = (1/|F_z(0)| + k_fr R L/(4EI))^-1 ({P.words(P.MODEL)}, corrected) and the paper's form "
+            f"with 2EI ({P.words(P.PAPER)}); {P.words(P.GUIDE)} line: eye guide. (b) The local decay law in the "
+            "bulk helix of each length "
+            f"({regions.__name__}: the stretch where the wall friction is axial and at its Coulomb limit): the "
+            f"slope d(1/|F_z|)/ds fitted there, over the corrected k_fr R/(4EI) ({P.words(P.MODEL)} line at 1); "
+            f"the paper's K = R F^2/(2EI) gives 2 ({P.words(P.PAPER)}). Lengths without a bulk helix (the short "
+            "rods, which jam at a few "
             "contacts) have no point.")
 
 
@@ -156,7 +158,7 @@ def _plot_local_law(bx, ds: xr.Dataset) -> None:
         has = ds["has_bulk_member"].values == 1
         Lm = np.broadcast_to(L[:, None], has.shape)
         ratio_m = ds["bulk_decay_rate_member"].values / model[:, None]
-        bx.plot(Lm[has], ratio_m[has], ".", ms=3, color="0.55", label="single seeds")
+        bx.plot(Lm[has], ratio_m[has], ".", ms=3, **P.SEEDS, label="single seeds")
         mean = ds["bulk_decay_rate_mean"].values / model
         sd = ds["bulk_decay_rate_std"].values / model
         ok = ok | has.any(axis=1)
@@ -198,11 +200,11 @@ def plot(ds: xr.Dataset):
     ok = ds["converged"].values == 1
     ax.plot(ds["L_model"], ds["F_simple"], **P.MODEL, label=MODEL_LABEL if local else MODEL_LABEL.split(";")[0])
     ax.plot(ds["L_model"], ds["F_simple_paper"], **P.PAPER, label=PAPER_LABEL if local else PAPER_LABEL.split(";")[0])
-    ax.plot(L, F, "-", color="0.6", lw=0.7, label="eye guide")
+    ax.plot(L, F, "-", **P.GUIDE, label="eye guide")
     if "F_member" in ds:
         has = ds["has_member"].values == 1
         Lm = np.broadcast_to(L[:, None], has.shape)
-        ax.plot(Lm[has], ds["F_member"].values[has], ".", ms=3, color="0.55", label="single seeds")
+        ax.plot(Lm[has], ds["F_member"].values[has], ".", ms=3, **P.SEEDS, label="single seeds")
         ax.errorbar(L[ok], F[ok], yerr=ds["F_std"].values[ok], fmt="none", ecolor="black", elinewidth=0.9, capsize=2.5)
         label_sim = _seeds_label(ds)
     else:
