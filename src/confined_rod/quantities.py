@@ -42,6 +42,14 @@ _POS_OR_DEFAULT = {"type": ["number", "null"], "exclusiveMinimum": 0}  # null: t
 _NONNEG_OR_DEFAULT = {"type": ["number", "null"], "minimum": 0}
 
 
+#: the scene parameters a figure states where its scenes share them: copied onto its dataset
+#: (analysis.postprocess), quoted by the manuscript (\\val{<figure>.<parameter>}, the numbers among
+#: them); its caption states them with the numerics (pipeline.configs.caption)
+STATED_PARAMETERS = ("R", "EI", "load", "k_fr", "l0", "k_ph", "k_w", "friction_cap", "protocol", "seed", "solver",
+                     "tol", "L", "bending_constant")
+#: the numerical settings a caption names (with their units from this table)
+NUMERICS = ("l0", "k_ph", "k_w", "tol")
+
 #: how a run ends: a simulation's ``status`` (its flag values in this order; ``status_reason`` says why)
 RUN_STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
 #: how a stability-map probe ends: its run's status, or "diverged" (the run blew up) or "invalid"
@@ -55,7 +63,7 @@ def _param(name, symbol, long_name, units, schema):
 
 #: Every field of confined_rod.Scene but its name, declared once: description, symbol,
 #: unit and config type. The schema's scene section, the dataset attributes and the
-#: parameter symbols of figure titles are derived from this list (tests/test_pipeline.py
+#: parameter symbols of figure titles are derived from this list (tests/test_figures.py
 #: checks that they agree with Scene).
 SCENE_PARAMETERS = [
     _param("L", "L", "contour length of the rod", "R", _POS),

@@ -12,11 +12,11 @@ from typing import Any, Mapping
 import xarray as xr
 
 from ..io import finalize
+from ..quantities import STATED_PARAMETERS
 from . import ensembles, evidence, figures
 
 #: scene attributes copied onto every figure dataset (those the figure varies are left out)
-COMMON = ("R", "EI", "load", "k_fr", "l0", "k_ph", "k_w", "friction_cap", "protocol", "seed", "solver", "tol", "L",
-          "bending_constant")
+COMMON = STATED_PARAMETERS
 
 
 def settle(kind: str, sims: Mapping[str, xr.Dataset]) -> tuple[dict[str, xr.Dataset], list[str]]:

@@ -25,6 +25,7 @@ import numpy as np
 import xarray as xr
 
 from .. import layout
+from ..quantities import STATED_PARAMETERS
 from .verdicts import VERDICTS, Verdict, fmt
 
 # LaTeX special characters in plain text
@@ -507,7 +508,7 @@ def finding_macros(verdicts: Iterable[Verdict], titles: Mapping[str, str], macro
 
 #: longest convergence verdict in the table (a paired ladder's lists every observable's numbers)
 STATUS_CHARS = 130
-SCENE_ATTRS = ("L", "load", "k_fr", "l0", "k_ph", "k_w", "tol", "R", "EI")
+SCENE_ATTRS = STATED_PARAMETERS     # the numbers among them: \val{<figure>.<parameter>}
 
 
 def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:

@@ -28,6 +28,7 @@ from typing import Any
 from .. import layout
 from ..analysis import figures as kinds
 from ..errors import ConfigError, SceneError, shorten
+from ..quantities import NUMERICS, QUANTITIES, pretty_unit
 from ..sim.scenes import Scene
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -445,8 +446,8 @@ def caption(config: dict[str, Any], figure: str) -> str:
               f"friction cap {sc.friction_cap:g} EI/R^3",
               "protocol varied" if "protocol" in varied else f"protocol '{sc.protocol}'", _seeds_text(built),
               "perturbation varied" if "perturbation" in varied else f"perturbation {sc.perturbation:g} R"]
-    numerics = [f"{k} = {getattr(sc, k):g}{u}" for k, u in (("l0", " R"), ("k_ph", " EI/R^2"), ("k_w", " EI/R^3"),
-                                                              ("tol", ""))]
+    units = {k: pretty_unit(QUANTITIES[k].units) for k in NUMERICS}
+    numerics = [f"{k} = {getattr(sc, k):g}" + (f" {units[k]}" if units[k] else "") for k in NUMERICS]
     numerics = [t if t.split(" =")[0] not in varied else f"{t.split(' =')[0]} varied" for t in numerics]
     numerics.insert(3, f"solver '{sc.solver}'" if "solver" not in varied else "solver varied")
     if sc.bending_constant != "corrected":
