@@ -11,7 +11,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from confined_rod import pipeline
+from confined_rod import layout, pipeline
 from confined_rod.sim.runs import run_batch, run_one
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -144,10 +144,10 @@ def test_snakemake_runs_a_batch_and_a_scene_alone_and_reruns_a_lost_member_alone
     for p in sims:
         with xr.open_dataset(tmp_path / p) as ds:
             assert ds.attrs["status"] == "converged"
-    logs = tmp_path / "results" / "logs" / "simulate"
+    logs = tmp_path / layout.LOGS / "simulate"
     assert "run in the batch" in (logs / "ens" / "a-s1.log").read_text()
     assert "one/b: converged" in (logs / "one" / "b.log").read_text()          # ran in its own job
-    assert not any((tmp_path / "results" / "batches" / "simulate" / "ens" / "a-s0-to-a-s1").iterdir())
+    assert not any((tmp_path / layout.batch_folder("simulate", "ens", "a-s0-to-a-s1")).iterdir())
     _, planned = _snakemake(tmp_path, config, *sims, dry=True)
     assert planned == {}, planned                                              # nothing left to do
     (tmp_path / sims[1]).unlink()

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod import claims, pipeline
+from confined_rod import claims, layout, pipeline
 from confined_rod.claims import derivations
 from confined_rod.claims import manuscript as paper
 from confined_rod.claims.measures import force_decay
@@ -72,7 +72,7 @@ def _claim(**kw):
 def test_value_claim_is_decided_by_its_tolerance(ours, reading, verdict):
     ev = claims.Evidence({"f": _fig({"fit_c": [ours, 0.0]})})
     v = claims.evaluate_one(_claim(reading=reading) if reading else _claim(), ev)
-    assert v.verdict == verdict and v.ours_value == ours and v.evidence.startswith("results/datasets/f.nc:fit_c")
+    assert v.verdict == verdict and v.ours_value == ours and v.evidence.startswith(layout.dataset_path("f") + ":fit_c")
 
 
 def test_relative_tolerance_and_paper_value_from_a_dataset():

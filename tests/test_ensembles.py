@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from confined_rod import pipeline
+from confined_rod import layout, pipeline
 from confined_rod.analysis import ensembles
 from confined_rod.analysis.figures import transmitted_force
 from confined_rod.errors import ConfigError
@@ -56,7 +56,7 @@ def test_seeds_become_one_scene_per_seed_and_expansion_is_idempotent():
     again = pipeline.expand(copy.deepcopy(config))
     assert again == config
     # every member is its own cached simulation, and the checks accept the expanded figure
-    assert pipeline.figure_sims(config, "fig6")[3] == "results/sims/fig6/L20-s7.nc"
+    assert pipeline.figure_sims(config, "fig6")[3] == layout.sim_path("fig6", "L20-s7")
     pipeline.validate(config)
     # a scene without seeds is left exactly as it was
     assert pipeline.scenes(config, "fig5") == ["c"]

@@ -12,7 +12,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from confined_rod import claims, pipeline
+from confined_rod import claims, layout, pipeline
 from confined_rod.analysis import evidence, postprocess
 from confined_rod.io import netcdf_attr
 
@@ -125,8 +125,7 @@ def test_swapped_and_stale_files_are_rebuilt_without_snakemakes_metadata(tmp_pat
                                    pipeline.figure_wanted(expanded, f)):
             if wanted is not None and not (tmp_path / path).exists():
                 _sim_file(tmp_path / path, wanted)
-    sources = [f"results/paper/{n}" for n in ("numbers.tex", "claims_table.tex", "readings_table.tex",
-                                                "figures.tex", "expected.json")]
+    sources = [layout.paper_source(n) for n in layout.PAPER_SOURCES]
     outs["batches"] = pipeline.batch_outputs(expanded)                            # a built tree has them
     for kind in ("sims", "batches", "datasets", "figures", "checks", "paper", "sources"):
         for p in outs.get(kind, sources):
@@ -134,7 +133,7 @@ def test_swapped_and_stale_files_are_rebuilt_without_snakemakes_metadata(tmp_pat
             if not (tmp_path / p).exists():
                 (tmp_path / p).write_text("")
     now = time.time_ns()
-    for p in (tmp_path / "results").rglob("*"):                                   # one time: no order
+    for p in (tmp_path / layout.RESULTS).rglob("*"):                                   # one time: no order
         os.utime(p, ns=(now, now))
     _, planned = _planned(tmp_path)
     assert planned.get("simulate", 0) == 0 and planned.get("postprocess", 0) == 0, planned

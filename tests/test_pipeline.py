@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from confined_rod import Scene, pipeline, theory
+from confined_rod import Scene, layout, pipeline, theory
 from confined_rod.analysis import plotting, postprocess
 from confined_rod.io import logged, write_dataset
 
@@ -94,10 +94,12 @@ def test_shared_scenes_are_simulated_once():
     # map's 3 ((c) is Fig 6's L/R = 320);
     # the l0 ladder: 4 rungs x 30 seeds less the 5 of Fig 6; the jamming map: 72 points (6 L x 2 loads
     # x 2 k_fr x 3 seeds) less the 15 of Fig 6
-    assert by_folder["results/sims/fig6_FonL"] == 30 and by_folder["results/sims/fig4_Fonl"] == 5 + 2
-    assert by_folder["results/sims/conv_l0"] == 4 * 30 - 5 and by_folder["results/sims/jamming_map"] == 72 - 15
-    assert by_folder["results/probes/stability_map"] == 57
-    assert sum(p.startswith("results/paths/fig3_bifurcation/") for p in sims) == 9
+    folder = lambda place, figure: str(place / figure)  # noqa: E731
+    assert by_folder[folder(layout.SIMS, "fig6_FonL")] == 30 and by_folder[folder(layout.SIMS, "fig4_Fonl")] == 5 + 2
+    assert by_folder[folder(layout.SIMS, "conv_l0")] == 4 * 30 - 5
+    assert by_folder[folder(layout.SIMS, "jamming_map")] == 72 - 15
+    assert by_folder[folder(layout.PROBES, "stability_map")] == 57
+    assert sum(str(Path(p).parent) == folder(layout.PATHS, "fig3_bifurcation") for p in sims) == 9
 
 
 def test_snakemake_stops_on_a_bad_config_before_any_job(tmp_path):
@@ -252,7 +254,7 @@ def test_numerical_study_figures_are_validated():
     # a setting of some figures only (the ramped ones) is the figure's own publication_value
     assert pipeline.publication_value(config, "conv_ramp_steps") == 128.0 != Scene(L=10.0).ramp_steps
     outs = pipeline.expected_outputs(config)
-    assert sorted(outs["checks"]) == sorted(f"results/checks/{f}.txt" for f in
+    assert sorted(outs["checks"]) == sorted(layout.check_path(f) for f in
                                             ("conv_l0", "conv_k_ph", "conv_l0_friction", "conv_ramp_steps"))
 
 
