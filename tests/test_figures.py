@@ -252,3 +252,14 @@ def test_a_figure_is_written_atomically_and_a_killed_writers_temporary_is_remove
     plt.close(fig)
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png"]
+
+
+def test_a_caption_names_a_style_by_what_is_drawn():
+    """plotting.words turns a named style into the caption's words; every named style has words."""
+    assert plotting.words(plotting.MODEL) == "blue dashed"
+    assert plotting.words(plotting.PAPER) == "grey dotted"
+    assert plotting.words(plotting.PAPER_FIT) == "orange dash-dotted"
+    assert plotting.words(plotting.SIM) == "black"
+    for style in (plotting.FIT, plotting.SEEDS, plotting.GUIDE, plotting.MARK, plotting.CONTACT, plotting.WALL,
+                  plotting.FOLDED, plotting.ENSEMBLE_BAND, *plotting.REGIONS.values()):
+        assert plotting.words(style)

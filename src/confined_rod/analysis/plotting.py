@@ -64,6 +64,8 @@ GUIDE = dict(color="0.6", lw=0.7)
 MARK = dict(color="tab:red")
 #: the stretch of the rod on the wall
 CONTACT = dict(color="0.93")
+#: the pore's wall in a drawing of the rod
+WALL = dict(color="0.55", lw=0.9)
 #: the loads above which a rod folds instead of coiling (the jamming map's plane)
 FOLDED = dict(color="0.88")
 #: the range of |F_z(s)| over a panel's seeds
@@ -71,13 +73,13 @@ ENSEMBLE_BAND = dict(color="#b9d7ea")
 #: the three regions of a loaded rod (analysis.regions), shaded
 REGIONS = {"tip": dict(color="#f6d8b8"), "bulk": dict(color="#d5ecd4"), "lower": dict(color="#dcdcef")}
 COLOR_WORDS = {"black": "black", "tab:red": "red", "tab:blue": "blue", "tab:orange": "orange", "tab:green": "green",
-               "0.45": "grey", "0.6": "grey", "0.88": "light grey", "0.93": "light grey", "#b9d7ea": "light blue",
-               "#f6d8b8": "orange", "#d5ecd4": "green", "#dcdcef": "violet"}
+               "0.45": "grey", "0.55": "grey", "0.6": "grey", "0.88": "light grey", "0.93": "light grey",
+               "#b9d7ea": "light blue", "#f6d8b8": "orange", "#d5ecd4": "green", "#dcdcef": "violet"}
 LINE_WORDS = {"-": "", "--": "dashed", ":": "dotted", "-.": "dash-dotted"}
 
 __all__ = ["plt", "np", "STYLE", "TEXT_WIDTH_IN", "MAX_HEIGHT_IN", "MIN_FONT_PT", "SMALL", "SIM", "FIT", "MODEL",
-           "PAPER", "PAPER_FIT", "SEEDS", "GUIDE", "MARK", "CONTACT", "FOLDED", "ENSEMBLE_BAND", "REGIONS", "words",
-           "plot", "plain_log_ticks", "params_text", "bottom_legend"]
+           "PAPER", "PAPER_FIT", "SEEDS", "GUIDE", "MARK", "CONTACT", "WALL", "FOLDED", "ENSEMBLE_BAND", "REGIONS",
+           "words", "plot", "plain_log_ticks", "params_text", "bottom_legend"]
 
 
 def words(style: dict) -> str:

@@ -109,7 +109,7 @@ def caption(figure, fig_cfg, built) -> str:
     return (f"(a) Projection L_z of a rod of L/R = {rod.L / rod.R:g} on the pore axis against the load "
             f"({g['n']} loads from {g['min']:g} to {g['max']:g} EI/R^2): {desc}. Colours give the class of "
             "each equilibrium (straight, planar, 3-D). With both ends free sideways the straight rod lies "
-            "diagonally across the pore, L_z = sqrt(L^2 - 4R^2) (less F L/k_ph; dashed line), not L. "
+            f"diagonally across the pore, L_z = sqrt(L^2 - 4R^2) (less F L/k_ph; {P.words(P.MODEL)} line), not L. "
             "Vertical bands: both thresholds by bisection with fresh runs (frictionless); lines: Euler's load "
             "pi^2 EI/L^2, the tilted rod's (pi^2 EI/L^2) sqrt(1 - 4R^2/L^2) and the second mode "
             f"4 pi^2 EI/L^2. (b) Both thresholds times L^2/EI against L/R = {aspects} with those estimates "

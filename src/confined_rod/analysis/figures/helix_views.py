@@ -45,7 +45,7 @@ def caption(figure, fig_cfg, built) -> str:
     Ls = " and ".join(f"{s.L:g}" for s in built.values())
     col = float(fig_cfg.get("column_length", 40))
     return (f"Confined rods of L/R = {Ls} under the load |F_z(0)| = {sc.load:g} EI/R^2, no torque at the ends, "
-            f"k_fr = {sc.k_fr:g}, drawn as tubes in the pore (wall at x = +-R, grey), shaded by depth y "
+            f"k_fr = {sc.k_fr:g}, drawn as tubes in the pore (wall at x = +-R, {P.words(P.WALL)}), shaded by depth y "
             "(pale: back, dark: front). Short rods: side view (x-z) and view down the axis (x-y); long rods: "
             f"wrapped into columns of {col:g} R, loaded end at the top left. Red: wall contacts of the detached "
             "ends that are not part of the helix (the tips pushing on the wall). Load / Euler force "
@@ -158,7 +158,7 @@ def side_strip(ax, x, y, z, R, z0, z1, lw=2.0, entrance=None) -> None:
     half = max(1.35 * R, 1.1 * float(np.abs(x).max()))
     ax.fill_between([z0, top], -R, R, color="0.96", zorder=0, lw=0)
     for xw in (-R, R):
-        ax.plot([z0, top], [xw, xw], color="0.55", lw=0.9, zorder=1)
+        ax.plot([z0, top], [xw, xw], **P.WALL, zorder=1)
     if entrance is not None:
         for sgn in (-1, 1):
             ax.fill_between([z0, entrance], sgn * R, sgn * half, facecolor="none", edgecolor="0.7", hatch="///",
@@ -173,7 +173,7 @@ def side_strip(ax, x, y, z, R, z0, z1, lw=2.0, entrance=None) -> None:
 def _pore(ax, x0, z0, z1, R):
     ax.axvspan(x0 - R, x0 + R, ymin=0, ymax=1, color="0.96", zorder=0)
     for xw in (x0 - R, x0 + R):
-        ax.plot([xw, xw], [z0, z1], color="0.55", lw=0.9, zorder=1)
+        ax.plot([xw, xw], [z0, z1], **P.WALL, zorder=1)
 
 
 def plot(ds: xr.Dataset):
@@ -216,7 +216,7 @@ def plot(ds: xr.Dataset):
         top = fig.add_subplot(gs[1, 0])
         th = np.linspace(0, 2 * np.pi, 200)
         top.fill(R * np.cos(th), R * np.sin(th), color="0.96", zorder=0)
-        top.plot(R * np.cos(th), R * np.sin(th), color="0.55", lw=0.9)
+        top.plot(R * np.cos(th), R * np.sin(th), **P.WALL)
         _tube(top, x, y, z / max(z.max(), 1e-12) * 2 - 1, R, lw=1.6)  # shade by height in the top view
         top.plot(x[tip], y[tip], "o", color="tab:red", ms=3, zorder=4)
         top.set_aspect("equal")
