@@ -57,7 +57,7 @@ def test_every_scene_is_run_once_by_its_batch_or_alone(path):
             assert job["members"] == [pipeline.scene_params(config, f, s) for s in scenes]
             for s, out in zip(scenes, job["outputs"]):
                 assert pipeline.member_cache(config, kind, f, s) == out
-                assert pipeline.member_batch(config, kind, f, s) == [pipeline.batch_manifest(kind, f, batch)]
+                assert pipeline.member_batch(config, kind, f, s) == [layout.batch_manifest(kind, f, batch)]
         for s in pipeline.scenes(config, f):
             if kind == "simulate" and pipeline.canonical_scene(config, f, s) != (f, s):
                 # a shared scene runs in its first figure: not again in a batch of this one
@@ -138,7 +138,7 @@ def test_snakemake_runs_a_batch_and_a_scene_alone_and_reruns_a_lost_member_alone
     config.write_text(TINY)
     cfg = pipeline.expand(yaml.safe_load(TINY))
     assert pipeline.batches(cfg, "ens") == {"a-s0-to-a-s1": ["a-s0", "a-s1"]} and pipeline.batches(cfg, "one") == {}
-    sims = [pipeline.sim_path("ens", "a-s0"), pipeline.sim_path("ens", "a-s1"), pipeline.sim_path("one", "b")]
+    sims = [layout.sim_path("ens", "a-s0"), layout.sim_path("ens", "a-s1"), layout.sim_path("one", "b")]
     _, planned = _snakemake(tmp_path, config, *sims)
     assert planned == {"batch": 1, "simulate": 3}, planned
     for p in sims:

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from confined_rod import pipeline
+from confined_rod import layout, pipeline
 from confined_rod.claims import manuscript as paper
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -242,4 +242,4 @@ def test_figure_floats_use_the_converter_and_natural_size():
                             {"fig_x": ds}, "config/ci.yaml")
     assert r"$|F_{z}(L)|$" in tex and r"$k_{\mathrm{fr}} = 0.8$" in tex
     assert r"\crfigure{fig_x.pdf}" in tex and r"\providecommand{\crfigure}" in tex
-    assert r"\texttt{results/datasets/fig\_x.nc}" in tex and r"\texttt{0123456789ab}" in tex
+    assert r"\texttt{" + paper.tex_escape(layout.dataset_path("fig_x")) + "}" in tex and r"\texttt{0123456789ab}" in tex

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from confined_rod import layout
 from confined_rod.analysis.figures import convergence as studies
 from confined_rod.analysis.measure import bulk_pitch
 
@@ -90,7 +91,7 @@ def test_a_long_verdict_is_shortened_for_the_figure_title_at_its_clauses_not_cut
     assert len(lines) <= TITLE_LINES and "..." not in text
     assert ("F_transmitted: +3.7 $\\pm$ 2.8 % (95 % bound 9.7 % > 1 %); pitch: +2.5 $\\pm$ 2.3 % (95 % bound 7.5 % "
             "> 1 %)") in text
-    assert text.endswith("(full verdict: results/checks)")
+    assert text.endswith(f"(full verdict: {layout.CHECKS})")
     k_w = ("inconclusive: F_transmitted: differences do not shrink monotonically (no asymptotic range); L_z: finest "
            "differences below a tenth of the tolerance (converged); pitch: finest differences below a tenth of the "
            "tolerance (converged)")

@@ -64,13 +64,13 @@ def test_the_axial_balance_closes_from_the_dataset_with_a_body_force_and_an_open
 ])
 def test_a_run_that_stops_on_a_known_saddle_says_so(kw, flag):
     """The dataset flags a converged state that is a known saddle, and the evidence check then
-    names it (claims and figures need the stable, buckled state: evidence.status)."""
-    from confined_rod.analysis import evidence
+    names it (claims and figures need the stable, buckled state: run_checks.status)."""
+    from confined_rod.analysis import run_checks
     from confined_rod.sim import observables
 
     ds = simulate(Scene(name="s", L=20, **kw), progress=False)
     assert ds.attrs["status"] == "converged" and int(ds.saddle) == flag
     assert ds.saddle.attrs["flag_meanings"].split()[flag] == observables.SADDLES[flag]
-    assert (evidence.status(ds) == "converged") == (flag == 0)
+    assert (run_checks.status(ds) == "converged") == (flag == 0)
     if flag:
-        assert evidence.not_at_equilibrium({"s": ds}) == [f"s ({evidence.SADDLE_STATUS[flag]})"]
+        assert run_checks.not_at_equilibrium({"s": ds}) == [f"s ({run_checks.SADDLE_STATUS[flag]})"]

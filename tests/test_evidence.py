@@ -1,5 +1,5 @@
 """No stale, swapped, corrupted or unconverged evidence reaches a figure, a verdict or the paper
-(confined_rod.analysis.evidence, pipeline.stale_inputs, the claims and the convergence kind)."""
+(confined_rod.analysis.run_checks, pipeline.stale_inputs, the claims and the convergence kind)."""
 import copy
 import os
 import subprocess
@@ -13,7 +13,7 @@ import xarray as xr
 import yaml
 
 from confined_rod import claims, layout, pipeline
-from confined_rod.analysis import evidence, postprocess
+from confined_rod.analysis import postprocess, run_checks
 from confined_rod.io import netcdf_attr
 
 from . import shapes
@@ -45,16 +45,16 @@ def test_a_file_of_another_scene_is_named_with_the_differing_parameter(tmp_path)
     s20, s40 = [s for s in pipeline.scenes(config, f) if s.endswith("-s0")][:2]
     wanted = pipeline.wanted_scene(config, f, s20)
     path = _sim_file(tmp_path / "a.nc", pipeline.wanted_scene(config, f, s40))   # L = 40's file in L = 20's place
-    with pytest.raises(evidence.EvidenceError) as e:
-        evidence.check_file(path, wanted)
+    with pytest.raises(run_checks.EvidenceError) as e:
+        run_checks.check_file(path, wanted)
     msg = str(e.value)
     assert "\n" not in msg and str(path) in msg and "name" in msg and s40 in msg
     renamed = {**pipeline.wanted_scene(config, f, s40), "name": wanted["name"]}   # same name, other L
     _sim_file(path, renamed)
-    with pytest.raises(evidence.EvidenceError, match=r"holds L = \d+ but the config asks for L = \d+"):
-        evidence.check_file(path, wanted)
+    with pytest.raises(run_checks.EvidenceError, match=r"holds L = \d+ but the config asks for L = \d+"):
+        run_checks.check_file(path, wanted)
     _sim_file(path, wanted)
-    evidence.check_file(path, wanted)                                              # the right file passes
+    run_checks.check_file(path, wanted)                                              # the right file passes
 
 
 @pytest.mark.parametrize("damage", ["truncated", "random bytes", "empty", "attribute removed"])
@@ -71,8 +71,8 @@ def test_a_corrupted_file_gets_one_line_saying_how_to_rebuild_it(tmp_path, damag
         path.write_bytes(b"")
     else:
         _sim_file(path, {k: v for k, v in wanted.items() if k != "load"})
-    with pytest.raises(evidence.EvidenceError) as e:
-        evidence.load(path, wanted)
+    with pytest.raises(run_checks.EvidenceError) as e:
+        run_checks.load(path, wanted)
     msg = str(e.value)
     assert "\n" not in msg and str(path) in msg and "--forcerun" in msg
     if damage == "attribute removed":
@@ -84,11 +84,11 @@ def test_a_stale_file_gets_a_fresh_marker_and_a_matching_one_none(tmp_path, monk
     config = _ci_config()
     f = "fig6_FonL"
     s20, s40 = [s for s in pipeline.scenes(config, f) if s.endswith("-s0")][:2]
-    path = Path(pipeline.sim_path(f, s20))
+    path = Path(layout.sim_path(f, s20))
     assert pipeline.stale_inputs(config, f, s20, str(path)) == []                 # no file: nothing to say
     _sim_file(path, pipeline.wanted_scene(config, f, s40))
     marker = pipeline.stale_inputs(config, f, s20, str(path))
-    assert marker == [str(pipeline.rebuild_marker(f, s20))]
+    assert marker == [str(layout.rebuild_marker(f, s20))]
     assert Path(marker[0]).stat().st_mtime_ns > path.stat().st_mtime_ns          # newer: the rule reruns
     _sim_file(path, pipeline.wanted_scene(config, f, s20))                        # the rebuilt file
     assert pipeline.stale_inputs(config, f, s20, str(path)) == [] and not Path(marker[0]).exists()
@@ -139,16 +139,16 @@ def test_swapped_and_stale_files_are_rebuilt_without_snakemakes_metadata(tmp_pat
     assert planned.get("simulate", 0) == 0 and planned.get("postprocess", 0) == 0, planned
     f = "fig6_FonL"
     s20, s40 = [s for s in pipeline.scenes(expanded, f) if s.endswith("-s0")][:2]
-    (tmp_path / pipeline.sim_path(f, s20)).write_bytes((tmp_path / pipeline.sim_path(f, s40)).read_bytes())
-    os.utime(tmp_path / pipeline.sim_path(f, s20), ns=(1, 1))                     # old: mtime alone misses it
+    (tmp_path / layout.sim_path(f, s20)).write_bytes((tmp_path / layout.sim_path(f, s40)).read_bytes())
+    os.utime(tmp_path / layout.sim_path(f, s20), ns=(1, 1))                     # old: mtime alone misses it
     fig4 = "fig4_Fonl"
     s4 = pipeline.scenes(expanded, fig4)[0]
-    path4 = tmp_path / pipeline.sim_path(*pipeline.canonical_scene(expanded, fig4, s4))
+    path4 = tmp_path / layout.sim_path(*pipeline.canonical_scene(expanded, fig4, s4))
     _sim_file(path4, {**pipeline.wanted_scene(expanded, fig4, s4), "load": 0.2})
     os.utime(path4, ns=(1, 1))
     msg, planned = _planned(tmp_path)
     assert planned.get("simulate") == 2 and planned.get("batch", 0) == 0, msg[-3000:]  # each alone
-    assert f"{pipeline.sim_path(f, s20)} holds name = '{f}/{s40}'" in msg
+    assert f"{layout.sim_path(f, s20)} holds name = '{f}/{s40}'" in msg
     assert "holds load = 0.2 but the config asks for load = 0.25" in msg
     assert planned.get("postprocess", 0) >= 2, msg[-3000:]
     assert planned.get("claims") == 1 and planned.get("paper") == 1, msg[-3000:]
@@ -169,7 +169,7 @@ def test_a_figure_dataset_names_its_runs_that_are_not_at_equilibrium(capsys):
     assert ds.attrs["not_at_equilibrium"] == "none"
     sims["L40"] = _unsettled(sims["L40"])
     ds = postprocess.build("f6", fig_cfg, sims)
-    assert evidence.flagged(ds.attrs["not_at_equilibrium"]) == ["f6/L40 (step_cap)"]
+    assert run_checks.flagged(ds.attrs["not_at_equilibrium"]) == ["f6/L40 (step_cap)"]
     assert "f6/L40 (step_cap)" in capsys.readouterr().err
 
 
@@ -275,7 +275,7 @@ def test_a_member_not_at_equilibrium_through_every_ensemble_kind(kind, capsys):
     context = {"publication_value": 0.5} if kind == "convergence" else {}
     ds = postprocess.build("f", fig_cfg, sims, context)
     # its ensemble has members at equilibrium: it is left out of the statistics, and named
-    assert evidence.flagged(ds.attrs["left_out"]) == [f"f/{victim} (step_cap)"]
+    assert run_checks.flagged(ds.attrs["left_out"]) == [f"f/{victim} (step_cap)"]
     assert ds.attrs["not_at_equilibrium"] == "none"
     assert f"f/{victim} (step_cap)" in capsys.readouterr().err
     if kind != "convergence":                    # a ladder leaves the seed out inside its own dataset
@@ -285,4 +285,4 @@ def test_a_member_not_at_equilibrium_through_every_ensemble_kind(kind, capsys):
     for k in sims:
         sims[k] = _unsettled(sims[k])
     ds = postprocess.build("f", fig_cfg, sims, context)
-    assert len(evidence.flagged(ds.attrs["not_at_equilibrium"])) == len(sims) and ds.attrs["left_out"] == "none"
+    assert len(run_checks.flagged(ds.attrs["not_at_equilibrium"])) == len(sims) and ds.attrs["left_out"] == "none"

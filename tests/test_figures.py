@@ -11,7 +11,7 @@ import xarray as xr
 
 from confined_rod import Scene, simulate, theory
 from confined_rod.analysis import figures, plotting, postprocess
-from confined_rod.analysis.quantities import QUANTITIES
+from confined_rod.analysis.figure_quantities import QUANTITIES
 from confined_rod.errors import ConfigError
 from confined_rod.io import check_finite
 from confined_rod.pipeline.schema import render, scene_schema

@@ -33,7 +33,7 @@ def test_sweeps_expand_to_one_scene_per_point_and_solver():
     config = {"figures": {"m": {"kind": "stability_map", "solvers": ["implicit", "explicit"],
                                 "defaults": BASE, "sweeps": {"dt_factor": [1.0, 3.0], "dx_max": [0.1],
                                                              "k_ph": [0.3]}}}}
-    pipeline.expand_sweeps(config)
+    config = pipeline.expand(config)
     names = set(pipeline.scenes(config, "m"))
     assert names == {"implicit-base", "explicit-base", "explicit-dt_factor-1", "explicit-dt_factor-3",
                      "implicit-dx_max-0p1", "implicit-k_ph-0p3", "explicit-k_ph-0p3"}
@@ -93,3 +93,12 @@ def test_the_map_classifies_each_point_by_its_physics_as_well_as_its_status():
                    "implicit-t_max-1": "capped", "implicit-k_w-m1": "refused", "implicit-load-2p5": "converged"}
     assert dict(zip(ds.point.values, ds.state.values))["implicit-tol-0p1"] == "straight"
     assert ds.attrs["outcome_counts"].startswith("reference state: 2, other state: 2, converged: 1, capped: 1")
+
+
+def test_a_probe_status_is_its_runs_status_or_a_failure_with_stable_flag_values():
+    """One source for the status words: a probe records its run's status (quantities.RUN_STATUS)
+    or how it failed; the flag values stored so far (0 converged ... 6 step_cap) do not move."""
+    from confined_rod.quantities import PROBE_STATUS, RUN_STATUS
+
+    assert set(RUN_STATUS) < set(PROBE_STATUS)
+    assert PROBE_STATUS == ("converged", "time_cap", "escaped", "diverged", "invalid", "model_violated", "step_cap")

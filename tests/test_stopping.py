@@ -136,3 +136,23 @@ def test_snapshots_at_growing_times_store_the_force_along_the_rod():
     np.testing.assert_allclose(d.snap_friction_phi.isel(time=-1), d.friction_phi, atol=1e-12)
     with pytest.raises(SceneError, match="snapshot_growth"):
         Scene(L=10.0, snapshot_interval=5.0, snapshot_growth=0.5)
+
+
+def test_the_escape_radius_reaches_the_kernel_through_the_parameter_vector():
+    """A link end above the open entrance has left the pore beyond limits.ESCAPE_RADIUS (one
+    source: the scene puts it into the kernels' parameter vector, which a cached kernel cannot
+    freeze as it would a global)."""
+    import numpy as np
+
+    from confined_rod import limits
+    from confined_rod.sim.model import kernels as K
+    from confined_rod.sim.scenes import Scene
+
+    sc = Scene(L=10.0, R=2.0, pore_length=8.0, l0=1.0)
+    par = sc.params()
+    assert par[K.R_ESCAPE] == limits.ESCAPE_RADIUS * sc.R
+    t = np.tile([0.0, 0.0, 1.0], (1, 1))
+    inside = np.array([[0.99 * par[K.R_ESCAPE], 0.0, 9.0]])
+    outside = np.array([[1.01 * par[K.R_ESCAPE], 0.0, 9.0]])
+    below = np.array([[1.01 * par[K.R_ESCAPE], 0.0, 6.0]])   # below the entrance the wall holds it
+    assert not K.escaped(inside, t, par) and K.escaped(outside, t, par) and not K.escaped(below, t, par)

@@ -20,7 +20,7 @@ import yaml
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
-from confined_rod import pipeline  # noqa: E402
+from confined_rod import layout, pipeline  # noqa: E402
 
 
 def check_netcdf(path: Path) -> list[str]:
@@ -104,9 +104,9 @@ def figure_outputs(config: dict, names: list[str]) -> dict[str, list[str]]:
         raise SystemExit(f"--figure: {unknown[0]!r} is not a figure of this config")
     checks = set(pipeline.convergence_figures(config))
     return {"sims": [p for f in names for p in pipeline.figure_sims(config, f)],
-            "datasets": [pipeline.dataset_path(f) for f in names],
-            "figures": [p for f in names for p in pipeline.figure_paths(f)],
-            "checks": [pipeline.check_path(f) for f in names if f in checks]}
+            "datasets": [layout.dataset_path(f) for f in names],
+            "figures": [p for f in names for p in layout.figure_paths(f)],
+            "checks": [layout.check_path(f) for f in names if f in checks]}
 
 
 def main(argv=None) -> int:

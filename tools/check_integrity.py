@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 
-from confined_rod import pipeline  # noqa: E402
+from confined_rod import layout, pipeline  # noqa: E402
 
 
 def dry_run(config: str, *targets: str) -> tuple[dict[str, int], str]:
@@ -94,7 +94,7 @@ def deleted_member(config: dict, config_path: str) -> int:
     under an up-to-date dataset is not rebuilt unless asked for, as before batches.)"""
     fig, members = next((f, m) for f in pipeline.figures(config) for m in pipeline.batches(config, f).values()
                         if pipeline.run_kind(config, f) == "simulate")
-    member = ROOT / pipeline.sim_path(fig, members[-1])
+    member = ROOT / layout.sim_path(fig, members[-1])
     with tempfile.TemporaryDirectory() as tmp:
         keep = Path(tmp) / "member.nc"
         shutil.move(member, keep)

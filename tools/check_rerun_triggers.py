@@ -58,7 +58,7 @@ PROBES = {
 SIM_RULES = {"simulate", "batch", "probe", "load_path"}
 PROBES.update({
     # the table of figure quantities extends the shared one: a new figure quantity re-runs no simulation
-    PKG / "analysis" / "quantities.py": ({"postprocess", "figure"}, SIM_RULES),
+    PKG / "analysis" / "figure_quantities.py": ({"postprocess", "figure"}, SIM_RULES),
     PKG / "quantities.py": (SIM_RULES, set()),
 })
 # a new, empty module in each part (created, planned, deleted): the rules' code inputs follow where it is

@@ -208,7 +208,7 @@ def batch_of_kill_target(config: str) -> tuple[str, str]:
     batch = pipeline.batch_of(cfg, figure, scene)
     if batch is None:
         raise SystemExit(f"{KILL_TARGET} is in no batch of {config}: pick a target that is")
-    return batch, pipeline.batch_log("probe", figure, batch)
+    return batch, layout.batch_log("probe", figure, batch)
 
 
 def main(argv=None) -> int:

@@ -45,7 +45,7 @@ MIN_LINKS_PER_WAVELENGTH = 4.0
 MAX_STRAIN = 0.05
 MAX_PENETRATION = 0.05  # R
 #: R: a link end above the open pore entrance this far from the axis has left the pore (the run ends
-#: 'escaped'; sim.model.kernels.escaped, and the escape figure's frames)
+#: 'escaped'; the kernels get it in the scene's parameter vector, the escape figure's frames use it)
 ESCAPE_RADIUS = 1.1
 MAX_BOND_GAP = 0.1  # l0, in the final state
 SEED_MAX = 2**63 - 1  # stored as a 64-bit integer

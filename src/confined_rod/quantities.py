@@ -1,6 +1,6 @@
 """The one place that defines each quantity's name, symbol and unit: the scene parameters and the
 variables of the scene files (simulations, probes, load paths) here; the quantities that
-post-processing derives (figure datasets) in :mod:`confined_rod.analysis.quantities`, which
+post-processing derives (figure datasets) in :mod:`confined_rod.analysis.figure_quantities`, which
 extends this table (so a new figure quantity re-runs no simulation).
 
 Internal units: lengths in R, forces in EI/R^2, force per length in EI/R^3,
@@ -42,19 +42,11 @@ _POS_OR_DEFAULT = {"type": ["number", "null"], "exclusiveMinimum": 0}  # null: t
 _NONNEG_OR_DEFAULT = {"type": ["number", "null"], "minimum": 0}
 
 
-#: the scene parameters a figure states where its scenes share them: copied onto its dataset
-#: (analysis.postprocess), quoted by the manuscript (\\val{<figure>.<parameter>}, the numbers among
-#: them); its caption states them with the numerics (pipeline.configs.caption)
-STATED_PARAMETERS = ("R", "EI", "load", "k_fr", "l0", "k_ph", "k_w", "friction_cap", "protocol", "seed", "solver",
-                     "tol", "L", "bending_constant")
-#: the numerical settings a caption names (with their units from this table)
-NUMERICS = ("l0", "k_ph", "k_w", "tol")
-
 #: how a run ends: a simulation's ``status`` (its flag values in this order; ``status_reason`` says why)
 RUN_STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
 #: how a stability-map probe ends: its run's status, or "diverged" (the run blew up) or "invalid"
 #: (the scene was refused); its flag values in this order
-PROBE_STATUS = ("converged", "time_cap", "escaped", "diverged", "invalid", "model_violated", "step_cap")
+PROBE_STATUS = RUN_STATUS[:3] + ("diverged", "invalid") + RUN_STATUS[3:]
 
 
 def _param(name, symbol, long_name, units, schema):
@@ -256,7 +248,7 @@ class Table(dict):
 
 
 #: the scene parameters and the scene files' variables (the figure datasets' quantities:
-#: confined_rod.analysis.quantities.QUANTITIES)
+#: confined_rod.analysis.figure_quantities.QUANTITIES)
 QUANTITIES = Table(SCENE_PARAMETERS + SIMULATION_VARIABLES)
 attrs, error_attrs, variable = QUANTITIES.attrs, QUANTITIES.error_attrs, QUANTITIES.variable
 label, param_text = QUANTITIES.label, QUANTITIES.param_text

@@ -56,13 +56,13 @@ def scene_sims(wildcards):
 # rebuilt: its rule gets a freshly touched marker as input (pipeline.stale_inputs).
 def stale_sim(wildcards):
     return pipeline.stale_inputs(
-        config, wildcards.figure, wildcards.scene, pipeline.sim_path(wildcards.figure, wildcards.scene)
+        config, wildcards.figure, wildcards.scene, layout.sim_path(wildcards.figure, wildcards.scene)
     )
 
 
 def stale_path(wildcards):
     return pipeline.stale_inputs(
-        config, wildcards.figure, wildcards.scene, pipeline.path_file(wildcards.figure, wildcards.scene)
+        config, wildcards.figure, wildcards.scene, layout.path_file(wildcards.figure, wildcards.scene)
     )
 
 
@@ -88,7 +88,7 @@ MEMBER_SHELL = (
 def batch_log(kind):
     def log(wildcards):
         batch = pipeline.batch_of(config, wildcards.figure, wildcards.scene)
-        return pipeline.batch_log(kind, wildcards.figure, batch) if batch else ""
+        return layout.batch_log(kind, wildcards.figure, batch) if batch else ""
 
     return log
 

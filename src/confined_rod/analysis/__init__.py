@@ -3,8 +3,9 @@ import contracts; numba is never loaded).
 
 - :mod:`.measure`, :mod:`.fits`, :mod:`.regions`, :mod:`.torque`: what is measured on one rod;
 - :mod:`.ensembles`: seed ensembles (statistics, paired changes, final states);
-- :mod:`.evidence`: is a stored run the one the config asks for, and is it at equilibrium;
-- :mod:`.quantities`: the figure datasets' quantities (name, symbol, unit);
+- :mod:`.run_checks`: is a stored run the one the config asks for, and is it at equilibrium;
+- :mod:`.figure_quantities`: the figure datasets' quantities (name, symbol, unit) and the
+  parameters a figure states;
 - :mod:`.figures`: one module per figure kind (dataset builder and plot), :mod:`.postprocess`
   (a figure's scene files -> its dataset) and :mod:`.plotting` (the shared style).
 """

@@ -2,7 +2,7 @@
 
 With friction the equilibrium depends on the path, so one run per point is an anecdote. A
 scene of the config may ask for ``seeds: N`` (seeds s, s+1, ..., s+N-1 from the scene's own
-``seed``) or ``seeds: [list]``; :func:`confined_rod.pipeline.expand_ensembles` turns it into
+``seed``) or ``seeds: [list]``; :func:`confined_rod.pipeline.expand` turns it into
 one scene per seed (``<scene>-s<seed>``), each its own cached simulation, and the figure kinds
 that support ensembles (``ENSEMBLES = True``) group the members back (runs whose parameters
 differ only in the seed) and store what :func:`stats` and :func:`final_class` compute.
@@ -167,10 +167,15 @@ def group(names: Sequence[str], attrs: Mapping[str, Mapping[str, object]], param
     return [sorted(g, key=lambda n: int(attrs[n].get("seed", 0))) for g in groups.values()]
 
 
+def member_name(base: str, seed: int) -> str:
+    """The scene name of the member of seed ``seed`` of the ensemble ``base``: ``<base>-s<seed>``
+    (the pipeline's expansion of ``seeds``; base_name reads it back)."""
+    return f"{base}-s{seed}"
+
+
 def base_name(name: str, seed: int) -> str:
-    """The config's scene name of an ensemble member ``<scene>-s<seed>`` (the names
-    :func:`confined_rod.pipeline.expand_ensembles` gives); any other name as it is."""
-    suffix = f"-s{seed}"
+    """The config's scene name of an ensemble member (:func:`member_name`); any other name as it is."""
+    suffix = member_name("", seed)
     return name[:-len(suffix)] if name.endswith(suffix) and len(name) > len(suffix) else name
 
 

@@ -19,7 +19,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from ..io import atomic_write, check_finite  # noqa: E402
-from .quantities import param_text  # noqa: E402
+from .figure_quantities import param_text  # noqa: E402
 
 #: Figures are drawn at the size they are printed at: the manuscript includes each at its natural
 #: size (paper.figure_scale: scaled down only if wider than the text width, TEXT_WIDTH_IN, or taller
@@ -104,7 +104,7 @@ def plot(ds: xr.Dataset, pdf: str | Path, png: str | Path) -> None:
 def mark_unsettled(fig, ds: xr.Dataset) -> None:
     """A figure says in red below its axes which of its runs are not at a stable equilibrium:
     those drawn (no verdict on them) and those left out of its statistics."""
-    from .evidence import flagged
+    from .run_checks import flagged
 
     def listed(runs):
         return "; ".join(runs[:3]) + (f"; and {len(runs) - 3} more" if len(runs) > 3 else "")

@@ -12,8 +12,8 @@ from typing import Any, Mapping
 import xarray as xr
 
 from ..io import finalize
-from ..quantities import STATED_PARAMETERS
-from . import ensembles, evidence, figures
+from . import ensembles, figures, run_checks
+from .figure_quantities import STATED_PARAMETERS
 
 #: scene attributes copied onto every figure dataset (those the figure varies are left out)
 COMMON = STATED_PARAMETERS
@@ -21,7 +21,7 @@ COMMON = STATED_PARAMETERS
 
 def settle(kind: str, sims: Mapping[str, xr.Dataset]) -> tuple[dict[str, xr.Dataset], list[str]]:
     """(the runs a figure's statistics use, the runs left out of them): a run not at a stable
-    equilibrium (a step or time cap, an escape, a known saddle: evidence.status) is left out of
+    equilibrium (a step or time cap, an escape, a known saddle: run_checks.status) is left out of
     its seed ensemble when other members of it are at one. A run alone, or an ensemble with no
     member at equilibrium, stays in (the figure draws it, marked; no claim is decided on it). A
     kind that sorts its runs itself (HANDLES_UNSETTLED: the convergence ladders, which leave a
@@ -31,7 +31,7 @@ def settle(kind: str, sims: Mapping[str, xr.Dataset]) -> tuple[dict[str, xr.Data
     if figures.source(kind) != "simulate" or getattr(module, "HANDLES_UNSETTLED", False):
         return dict(sims), []
     seeds = {n: int(d.attrs.get("seed", 0)) for n, d in sims.items()}
-    bad = evidence.unsettled(sims)
+    bad = run_checks.unsettled(sims)
     out = []
     for members in ensembles.by_base(list(sims), seeds).values():
         if any(m not in bad for m in members):
@@ -48,18 +48,19 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
     module = figures.get(kind)
     used, dropped = settle(kind, sims)
     ds = module.build(fig_cfg, used, dict(context or {}))
-    named = ({n: f"{figure}/{n} ({st})" for n, st in evidence.unsettled(sims).items()}
+    named = ({n: f"{figure}/{n} ({st})" for n, st in run_checks.unsettled(sims).items()}
              if figures.source(kind) == "simulate" else {})
-    left_out = [named[n] for n in dropped] + [f"{figure}/{r}" for r in evidence.flagged(ds.attrs.pop("left_out", None))]
+    left_out = [named[n] for n in dropped] + [f"{figure}/{r}"
+                                              for r in run_checks.flagged(ds.attrs.pop("left_out", None))]
     inside = [r for r in named.values() if r not in left_out]
     if named:
-        evidence.warn(f"warning: {figure}: {len(named)} of {len(sims)} runs are not at a stable equilibrium"
+        run_checks.warn(f"warning: {figure}: {len(named)} of {len(sims)} runs are not at a stable equilibrium"
                       + (f"; left out of its statistics: {'; '.join(left_out)}" if left_out else "")
                       + (f"; in its dataset, so no claim is decided on it: {'; '.join(inside)}" if inside else ""))
     meta = {"figure": figure, "kind": kind, "paper_figure": fig_cfg.get("paper_figure", "none"),
             "figure_title": fig_cfg.get("title", figure), "scenes": list(used),
             "scene_git_commits": sorted({str(d.attrs.get("git_commit", "unknown")) for d in sims.values()}),
-            "not_at_equilibrium": evidence.join(inside), "left_out": evidence.join(left_out)}
+            "not_at_equilibrium": run_checks.join(inside), "left_out": run_checks.join(left_out)}
     if hasattr(module, "meta"):
         meta.update(module.meta(fig_cfg, used))
     else:

@@ -31,14 +31,14 @@ class Evidence:
 
     def unsettled(self) -> list[str]:
         """The runs behind what has been read that are not at equilibrium: 'figure/scene (status)'."""
-        from ..analysis import evidence
+        from ..analysis import run_checks
 
         runs: list[str] = []
         for what, key in sorted(self.touched):
             if what == "dataset":
-                runs += evidence.flagged(self.datasets[key].attrs.get("not_at_equilibrium"))
+                runs += run_checks.flagged(self.datasets[key].attrs.get("not_at_equilibrium"))
             else:
-                runs += evidence.not_at_equilibrium({key: self.sims[key]})
+                runs += run_checks.not_at_equilibrium({key: self.sims[key]})
         return list(dict.fromkeys(runs))
 
     def file(self, key: str) -> str:

@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from .. import layout
-from ..quantities import STATED_PARAMETERS
+from ..analysis.figure_quantities import STATED_PARAMETERS
 from .verdicts import VERDICTS, Verdict, fmt
 
 # LaTeX special characters in plain text

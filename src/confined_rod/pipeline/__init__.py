@@ -9,21 +9,10 @@ line) imports it.
 - :mod:`.batches`: small scenes run in one process;
 - :mod:`.code`: the code each rule depends on (its re-run triggers).
 
-The names the rules use are re-exported here (``pipeline.sim_path``, ``pipeline.check``, ...);
-the file layout itself is :mod:`confined_rod.layout`.
+The names the rules use are re-exported here (``pipeline.check``, ``pipeline.figure_sims``, ...);
+the paths of results/ are :mod:`confined_rod.layout`'s alone.
 """
 from ..errors import ConfigError
-from ..layout import (
-                      batch_log,
-                      batch_manifest,
-                      check_path,
-                      dataset_path,
-                      figure_paths,
-                      path_file,
-                      probe_path,
-                      rebuild_marker,
-                      sim_path,
-)
 from .batches import (
                       BATCH_S,
                       batch_job,
@@ -41,6 +30,7 @@ from .code import PACKAGE, code_closure
 from .configs import (
                       ROOT,
                       SCHEMA,
+                      Expanded,
                       build_scene,
                       built_scenes,
                       canonical_scene,
@@ -52,8 +42,6 @@ from .configs import (
                       convergence_figures,
                       costly_scenes,
                       expand,
-                      expand_ensembles,
-                      expand_sweeps,
                       figures,
                       kinds,
                       publication_value,
@@ -76,12 +64,10 @@ from .targets import (
 )
 
 __all__ = [
-    "ConfigError", "batch_log", "batch_manifest", "check_path", "dataset_path", "figure_paths", "path_file",
-    "probe_path", "rebuild_marker", "sim_path", "BATCH_S", "batch_job", "batch_name", "batch_of", "batch_outputs",
-    "batches", "member_batch", "member_cache", "plan_batches", "run_kind", "solver_estimate", "PACKAGE",
-    "code_closure", "ROOT", "SCHEMA", "build_scene", "built_scenes", "canonical_scene", "caption", "check",
-    "check_paper", "check_schema", "context", "convergence_figures", "costly_scenes", "expand", "expand_ensembles",
-    "expand_sweeps", "figures", "kinds", "publication_value", "read_config", "read_figures", "scene_params", "scenes",
-    "validate", "claim_sims", "claim_wanted", "expected_outputs", "figure_sims", "figure_wanted", "paper_outputs",
-    "path_spec", "stale_inputs", "wanted_scene",
+    "ConfigError", "BATCH_S", "batch_job", "batch_name", "batch_of", "batch_outputs", "batches", "member_batch",
+    "member_cache", "plan_batches", "run_kind", "solver_estimate", "PACKAGE", "code_closure", "ROOT", "SCHEMA",
+    "Expanded", "build_scene", "built_scenes", "canonical_scene", "caption", "check", "check_paper", "check_schema",
+    "context", "convergence_figures", "costly_scenes", "expand", "figures", "kinds", "publication_value",
+    "read_config", "read_figures", "scene_params", "scenes", "validate", "claim_sims", "claim_wanted",
+    "expected_outputs", "figure_sims", "figure_wanted", "paper_outputs", "path_spec", "stale_inputs", "wanted_scene",
 ]

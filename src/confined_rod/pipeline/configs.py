@@ -27,8 +27,9 @@ from typing import Any
 
 from .. import layout
 from ..analysis import figures as kinds
+from ..analysis.figure_quantities import NUMERICS
 from ..errors import ConfigError, SceneError, shorten
-from ..quantities import NUMERICS, QUANTITIES, pretty_unit
+from ..quantities import QUANTITIES, pretty_unit
 from ..sim.scenes import Scene
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -163,7 +164,7 @@ class Expanded(dict):
         return dict, (dict(self),)
 
 
-def expand_sweeps(config: dict[str, Any]) -> None:
+def _expand_sweeps(config: dict[str, Any]) -> None:
     """Let every figure kind that has sweeps (stability maps) turn them into scenes, in place
     (expand calls it on its copy)."""
     for f in figures(config):
@@ -177,7 +178,7 @@ def expand_sweeps(config: dict[str, Any]) -> None:
                     raise ConfigError(f"figures.{f}.{e}") from None
 
 
-def expand_ensembles(config: dict[str, Any]) -> None:
+def _expand_ensembles(config: dict[str, Any]) -> None:
     """Turn every scene that asks for ``seeds`` (in its own entry, its figure's defaults or
     scene_defaults) into one scene per seed, ``<scene>-s<seed>``, in place (expand calls it on
     its copy); idempotent.
@@ -207,7 +208,7 @@ def expand_ensembles(config: dict[str, Any]) -> None:
             except ValueError as e:
                 raise ConfigError(f"figures.{f}.scenes.{name}.seeds: {e}") from None
             for seed in seeds:
-                _add_scene(out, origin, f, f"{name}-s{seed}", {**entry, "seed": seed}, name)
+                _add_scene(out, origin, f, ensembles.member_name(name, seed), {**entry, "seed": seed}, name)
         if fig.get("scenes") is not None:
             fig["scenes"] = out
         defaults.pop("seeds", None)
@@ -231,8 +232,8 @@ def expand(config: dict[str, Any]) -> Expanded:
     if isinstance(config, Expanded):
         return config
     out = Expanded(copy.deepcopy(dict(config)))
-    expand_sweeps(out)
-    expand_ensembles(out)
+    _expand_sweeps(out)
+    _expand_ensembles(out)
     return out
 
 

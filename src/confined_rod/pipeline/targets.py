@@ -27,7 +27,7 @@ def figure_sims(config: dict[str, Any], figure: str) -> list[str]:
 
 
 def wanted_scene(config: dict[str, Any], figure: str, scene: str, shared: bool = True) -> dict[str, Any] | None:
-    """What the file of a scene must store (evidence.check_file): every Scene parameter, defaults
+    """What the file of a scene must store (analysis.run_checks.check_file): every Scene parameter, defaults
     filled in, under the name of the run that makes the file (with ``shared``, a shared run's
     first figure; without, the scene is the file's own run). None for a stability-map probe,
     whose file records its raw input and how it ended."""
@@ -53,7 +53,7 @@ def stale_inputs(config: dict[str, Any], figure: str, scene: str, path: str) -> 
     Snakemake's metadata in .snakemake/ was lost), else []. The marker is touched now, so the
     rule that makes the file sees an input newer than its output and rebuilds it (and so
     everything downstream); a note names the file and the first differing parameter."""
-    from ..analysis.evidence import problem
+    from ..analysis.run_checks import problem
 
     marker = layout.rebuild_marker(figure, scene)
     file = Path(path)

@@ -1,6 +1,6 @@
 """Stability stress test, simulation side: run one point of a sweep and record how it ended.
 
-The map that collects the points is post-processing: figures/stability_map.py.
+The map that collects the points is post-processing: analysis/figures/stability_map.py.
 
 Each point either reaches equilibrium, runs into its time cap or its step budget
 (``max_steps``: the map's probes have one, so an explicit run at a stiff setting

@@ -206,6 +206,7 @@ class Scene:
         p[K.GAMMA_R] = c.gamma_r
         p[K.FLOOR] = 1.0 if self.floor else 0.0
         p[K.GUIDED] = 1.0 if self.ends == "guided" else 0.0
+        p[K.R_ESCAPE] = limits.ESCAPE_RADIUS * self.R
         return p
 
     def initial_state(self) -> tuple[np.ndarray, np.ndarray]:

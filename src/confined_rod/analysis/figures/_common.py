@@ -7,7 +7,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import ConfigError
-from ..quantities import attrs, variable
+from ..figure_quantities import attrs, variable
 
 #: the Scene field that names a scene: never compared by same_except
 SCENE_NAME = "name"

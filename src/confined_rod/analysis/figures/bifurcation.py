@@ -21,7 +21,7 @@ import xarray as xr
 from ... import theory
 from ...errors import ConfigError, SceneError
 from .. import plotting as P
-from ..quantities import label, variable
+from ..figure_quantities import label, variable
 from ._common import check_scene_keys, same_except, scene_coord
 
 SOURCE = "path"

@@ -51,10 +51,10 @@ import xarray as xr
 
 from ... import layout
 from ...errors import ConfigError
-from .. import ensembles, evidence
+from .. import ensembles, run_checks
 from .. import plotting as P
+from ..figure_quantities import attrs, label, variable
 from ..measure import bulk_pitch, n_turns
-from ..quantities import attrs, label, variable
 from ._common import same_except
 
 REFINEMENT = {"l0": ("h = l0", lambda v: v), "tol": ("h = tol", lambda v: v),
@@ -174,11 +174,11 @@ HANDLES_UNSETTLED = True
 
 def build(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=None) -> xr.Dataset:
     """The ladder's dataset and verdict, never decided on a run that is not at a stable
-    equilibrium (a step or time cap, an escape, a known saddle: evidence.status). In a ladder of
+    equilibrium (a step or time cap, an escape, a known saddle: run_checks.status). In a ladder of
     seed ensembles such runs are left out (a paired ladder leaves out the seed at every rung) and
     named in ``left_out``; if a rung is left with fewer than two runs, or the ladder has one run
     per rung, the verdict is 'inconclusive: evidence not at equilibrium (...)'."""
-    status = evidence.unsettled(sims)
+    status = run_checks.unsettled(sims)
     off = list(status)
     if not off:
         ds = _ladder(fig_cfg, sims, context)

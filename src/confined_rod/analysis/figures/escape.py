@@ -32,7 +32,7 @@ from ... import theory
 from ...errors import ConfigError
 from ...limits import ESCAPE_RADIUS
 from .. import plotting as P
-from ..quantities import label, variable
+from ..figure_quantities import label, variable
 from ._common import check_scene_keys, scene_coord
 from .helix_views import side_strip
 

@@ -25,9 +25,9 @@ from ... import theory
 from ...errors import ConfigError
 from .. import ensembles, regions
 from .. import plotting as P
+from ..figure_quantities import attrs, error_attrs, label, variable
 from ..fits import PARAMS, FitError, determined, fit_power_law, power_law, undetermined
 from ..measure import HELIX_RUN, contact_range, euler_ratio, n_turns
-from ..quantities import attrs, error_attrs, label, variable
 from ._common import check_scene_keys, same_except
 
 _PAPER_FIT = {"type": "object", "additionalProperties": False, "required": ["A", "l0", "c"],

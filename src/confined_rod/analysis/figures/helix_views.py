@@ -18,8 +18,8 @@ import xarray as xr
 
 from .. import ensembles
 from .. import plotting as P
+from ..figure_quantities import attrs, variable
 from ..measure import euler_ratio, n_turns
-from ..quantities import attrs, variable
 from ._common import check_scene_keys, same_except, scene_coord
 
 OPTIONS = {

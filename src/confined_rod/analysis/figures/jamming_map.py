@@ -25,8 +25,8 @@ from ... import layout, theory
 from ...errors import ConfigError
 from .. import ensembles
 from .. import plotting as P
+from ..figure_quantities import attrs, label, variable
 from ..measure import half_reduction_length, n_turns
-from ..quantities import attrs, label, variable
 
 ENSEMBLES = True
 AXES = ("L", "load", "k_fr")

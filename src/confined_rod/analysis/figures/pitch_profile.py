@@ -24,8 +24,8 @@ from ... import theory
 from ...errors import ConfigError
 from .. import plotting as P
 from .. import regions
+from ..figure_quantities import label, variable
 from ..measure import contact_range, force_at_links, handedness_reversals
-from ..quantities import label, variable
 
 OPTIONS: dict = {}
 BULK = (0.1, 0.9)  # fraction of the contact stretch that is the bulk helix

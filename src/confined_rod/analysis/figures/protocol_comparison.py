@@ -25,8 +25,8 @@ import xarray as xr
 from ...errors import ConfigError
 from .. import ensembles, regions, torque
 from .. import plotting as P
+from ..figure_quantities import label, variable
 from ..measure import defects, n_turns
-from ..quantities import label, variable
 from ._common import need_scenes, same_except, scene_coord
 
 OPTIONS = {

@@ -14,7 +14,7 @@ import xarray as xr
 from ...errors import ConfigError
 from .. import ensembles
 from .. import plotting as P
-from ..quantities import QUANTITIES, label
+from ..figure_quantities import QUANTITIES, label
 
 SOURCE = "probe"
 OPTIONS = {

@@ -10,7 +10,7 @@ import xarray as xr
 
 from ...errors import ConfigError
 from .. import plotting as P
-from ..quantities import attrs, label, param_text, variable
+from ..figure_quantities import attrs, label, param_text, variable
 from ._common import same_except
 
 OPTIONS = {"reference": {

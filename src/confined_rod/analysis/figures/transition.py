@@ -21,8 +21,8 @@ import xarray as xr
 
 from ...errors import ConfigError, SceneError
 from .. import plotting as P
+from ..figure_quantities import variable
 from ..measure import defects
-from ..quantities import variable
 from ._common import need_scenes, same_except, scene_coord
 from .helix_views import side_strip
 

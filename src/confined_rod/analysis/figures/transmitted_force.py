@@ -16,8 +16,8 @@ import xarray as xr
 from ... import theory
 from .. import ensembles, regions
 from .. import plotting as P
+from ..figure_quantities import label, variable
 from ..measure import n_turns
-from ..quantities import label, variable
 from ._common import need_scenes, per_scene, same_except, scene_coord
 
 OPTIONS: dict = {}

@@ -40,10 +40,10 @@ def _threshold_robust(test: Callable[[float], Measured]) -> Measured:
     of FALL_THRESHOLDS (else inconclusive, the note saying how it changes)."""
     results = {fm: test(fm) for fm in FALL_THRESHOLDS}
     value, holds, evidence, note = results[DEGENERATE_FALL]
-    if len({r[1] for r in results.values()}) > 1:
+    if len({r.holds for r in results.values()}) > 1:
         holds = None
         note += ("; the verdict depends on the fall below which a window does not determine a fit: "
-                 + ", ".join(f"{_WORD[r[1]]} at {fm:.3g}x" for fm, r in results.items()))
+                 + ", ".join(f"{_WORD[r.holds]} at {fm:.3g}x" for fm, r in results.items()))
     return Measured(value, holds, evidence, note)
 
 

@@ -16,8 +16,6 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ...limits import ESCAPE_RADIUS
-
 # indices into the parameter vector ``par``
 HALF = 0  # l0/2
 K_BOND = 1  # k = k_ph/l0
@@ -38,7 +36,8 @@ GAMMA_T = 15  # translational drag per link
 GAMMA_R = 16  # rotational drag per link
 FLOOR = 17  # 1: the lower piston at z = 0 is a one-sided wall (stiffness k_w) for every link end
 GUIDED = 18  # 1: the loaded end point slides in a guide of radius R: it feels the wall above the entrance too
-NPAR = 19
+R_ESCAPE = 19  # limits.ESCAPE_RADIUS * R: a link end above the entrance this far from the axis has left the pore
+NPAR = 20
 
 
 @njit(cache=True)
@@ -341,11 +340,12 @@ def euler_update(r, t, F, M, dt, par):
 
 @njit(cache=True)
 def escaped(r, t, par):
-    """True if a link end is above the open pore entrance and farther than ESCAPE_RADIUS
+    """True if a link end is above the open pore entrance and farther than par[R_ESCAPE]
     from the axis: it has left the pore (the block around the pore would stop it from
-    coming back below the entrance)."""
+    coming back below the entrance). The radius comes in the parameter vector, not as a
+    global: a cached kernel would keep a global's old value."""
     h = par[HALF]
-    lim = ESCAPE_RADIUS * par[R_WALL]
+    lim = par[R_ESCAPE]
     for i in range(r.shape[0]):
         for sgn in (-1.0, 1.0):
             z = r[i, 2] + sgn * h * t[i, 2]

@@ -7,6 +7,14 @@ from __future__ import annotations
 from ..quantities import QUANTITIES as SCENE_FILE_QUANTITIES
 from ..quantities import Quantity
 
+#: the scene parameters a figure states where its scenes share them: copied onto its dataset
+#: (analysis.postprocess), quoted by the manuscript (\val{<figure>.<parameter>}, the numbers among
+#: them); its caption states them with the numerics (pipeline.configs.caption)
+STATED_PARAMETERS = ("R", "EI", "load", "k_fr", "l0", "k_ph", "k_w", "friction_cap", "protocol", "seed", "solver",
+                     "tol", "L", "bending_constant")
+#: the numerical settings a caption names (with their units from the quantities' table)
+NUMERICS = ("l0", "k_ph", "k_w", "tol")
+
 
 def _member_stats(key: str, symbol: str, text: str, units: str, member: str) -> list["Quantity"]:
     """<key>_member, <key>_mean, <key>_std of an ensemble quantity (member: what a member's value is)."""

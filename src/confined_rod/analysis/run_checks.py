@@ -22,7 +22,7 @@ from ..io import netcdf_attr
 
 #: the value of a figure dataset's ``not_at_equilibrium`` attribute when every run converged
 NONE = "none"
-#: the status of a run at equilibrium (simulation.STATUS)
+#: the status of a run at equilibrium (quantities.RUN_STATUS)
 EQUILIBRIUM = "converged"
 
 
