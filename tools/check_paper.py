@@ -77,7 +77,7 @@ def used_macros(tex: Path, numbers: Path) -> set[tuple[str, str]]:
 
 def _built(path: str | Path) -> Path:
     """A file of the layout in the build checked (--results)."""
-    return _built(path)
+    return layout.under(RESULTS, path)
 
 
 def check(config_path: str) -> dict:
