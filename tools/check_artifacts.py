@@ -116,7 +116,7 @@ def main(argv=None) -> int:
     ap.add_argument("--figure", action="append", default=[],
                     help="check only this figure's simulations, dataset, images and check (repeatable)")
     args = ap.parse_args(argv)
-    config = yaml.safe_load(Path(args.config).read_text())
+    config = pipeline.expand(yaml.safe_load(Path(args.config).read_text()))   # seeds and sweeps as scenes
     expected = pipeline.expected_outputs(config)
     if args.figure:
         expected = figure_outputs(config, args.figure)
