@@ -32,7 +32,7 @@ def job_times(results: Path) -> list[dict]:
             records = list(csv.DictReader(fh, delimiter="\t"))
         if not records:
             continue
-        rel = tsv.relative_tolayout.under(results, layout.BENCHMARKS)
+        rel = tsv.relative_to(layout.under(results, layout.BENCHMARKS))
         rows.append({"rule": rel.parts[0], "job": str(rel.with_suffix("")), "s": float(records[-1]["s"])})
     return rows
 
