@@ -1,3 +1,7 @@
+import os
+
+os.environ.setdefault("MPLBACKEND", "Agg")   # the package forces no backend; the tests draw to files
+
 import numpy as np
 import pytest
 

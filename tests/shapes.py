@@ -24,16 +24,16 @@ def rod(x, y, z, *, L: float, l0: float = L0, R: float = 1.0, attrs: dict | None
     sl = slice(idx[0], idx[-1] + 1) if idx.size >= 3 else slice(0, 0)
     phi = np.unwrap(np.arctan2(y[sl], x[sl]))
     dphi = np.gradient(phi, s[sl]) if phi.size >= 2 else np.zeros_like(phi)
-    data = {"x": ("link", x), "y": ("link", y), "z": ("link", z), "contact": ("link", contact),
-            "phi": ("helix", phi), "dphi_ds": ("helix", dphi)}
+    data = {"x": ("s_link", x), "y": ("s_link", y), "z": ("s_link", z), "contact": ("s_link", contact),
+            "phi": ("s_helix", phi), "dphi_ds": ("s_helix", dphi)}
     # the mechanics a simulation stores, here of a rod with no wall or friction force and a
     # constant axial force (the regions and local-law measures then find no bulk helix)
     load = float((attrs or {}).get("load", 0.25))
-    data.update({"wall_force": ("link", np.zeros(x.size)), "friction_z": ("link", np.zeros(x.size)),
-                 "friction_force": ("link", np.zeros(x.size)), "F_z": ("joint", np.full(x.size + 1, -load))})
+    data.update({"wall_force": ("s_link", np.zeros(x.size)), "friction_z": ("s_link", np.zeros(x.size)),
+                 "friction_force": ("s_link", np.zeros(x.size)), "F_z": ("s", np.full(x.size + 1, -load))})
     data.update({k: ((), v) for k, v in scalars.items()})
-    return xr.Dataset(data, coords={"s_link": ("link", s), "s_helix": ("helix", s[sl]),
-                                    "s": ("joint", np.arange(x.size + 1) * l0)},
+    return xr.Dataset(data, coords={"s_link": ("s_link", s), "s_helix": ("s_helix", s[sl]),
+                                    "s": ("s", np.arange(x.size + 1) * l0)},
                       attrs={"L": L, "l0": l0, "R": R, "EI": 1.0, **(attrs or {})})
 
 
@@ -83,8 +83,8 @@ def sliding_friction(F_joint, k_fr: float) -> dict:
     the drop of |F_z| across it, and the wall force that friction's 1/k_fr."""
     F = np.abs(np.asarray(F_joint, dtype=float))
     fz = F[:-1] - F[1:]
-    return {"friction_z": ("link", fz), "friction_force": ("link", np.abs(fz)),
-            "wall_force": ("link", np.abs(fz) / k_fr)}
+    return {"friction_z": ("s_link", fz), "friction_force": ("s_link", np.abs(fz)),
+            "wall_force": ("s_link", np.abs(fz) / k_fr)}
 
 
 #: the rod of profile_rod (units R = EI = 1)
@@ -127,9 +127,9 @@ def profile_rod(tip_end=6.0, bulk_end=70.0, q_lower=0.1, tip_contacts=(1, 7), de
     # in the lower region N is that of the bulk's end and fz a share q_lower of k_fr N
     N_w = np.where(contact == 1, np.where(s_link <= bulk_end, fz / K_FR, 1e-3 / K_FR), 0.0)
     ds = xr.Dataset(
-        {"F_z": (("joint",), -F), "contact": (("link",), contact), "wall_force": (("link",), N_w),
-         "friction_z": (("link",), fz * (contact == 1)), "friction_force": (("link",), fz * (contact == 1))},
-        coords={"s": (("joint",), s), "s_link": (("link",), s_link)},
+        {"F_z": (("s",), -F), "contact": (("s_link",), contact), "wall_force": (("s_link",), N_w),
+         "friction_z": (("s_link",), fz * (contact == 1)), "friction_force": (("s_link",), fz * (contact == 1))},
+        coords={"s": (("s",), s), "s_link": (("s_link",), s_link)},
         attrs={"L": L, "l0": L0, "R": R, "EI": EI, "k_fr": K_FR, "friction_cap": 0.0, "load": LOAD,
                "seed": seed, "status": "converged"})
     return ds, rate

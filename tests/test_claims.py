@@ -156,9 +156,9 @@ def test_wall_force_coefficient_of_an_exact_helix_names_the_exact_relation():
     F = 2 * w**2 * np.sqrt(1 - w**2)
     K = w**4
     s_link = (np.arange(n) + 0.5) * 0.5
-    sim = xr.Dataset({"wall_force_density": ("link", np.full(n, K)), "F_z": ("joint", np.full(n + 1, -F)),
-                      "contact": ("link", np.ones(n, dtype=np.int8)), "dphi_ds": ("helix", np.full(n, w))},
-                     coords={"s_link": ("link", s_link), "s_helix": ("helix", s_link)},
+    sim = xr.Dataset({"wall_force_density": ("s_link", np.full(n, K)), "F_z": ("s", np.full(n + 1, -F)),
+                      "contact": ("s_link", np.ones(n, dtype=np.int8)), "dphi_ds": ("s_helix", np.full(n, w))},
+                     coords={"s_link": ("s_link", s_link), "s_helix": ("s_helix", s_link)},
                      attrs={"R": 1.0, "EI": 1.0, "k_fr": 0.0, "L": 20.0, "l0": 0.5})
     ev = claims.Evidence({}, {"fig/L20": sim})
     value, holds, _, note = claims.MEASURES["wall_force_coefficient"](ev, {"figure": "fig"}, "x")

@@ -16,9 +16,9 @@ def fake_sim(value, F, L_z=10.0, turns=2.0, param="l0"):
     s = np.linspace(0.0, 20.0, n)
     z = 0.5 * s
     return xr.Dataset(
-        {"phi": ("helix", phi), "z": ("s_link", z), "F_transmitted": ((), F), "L_z": ((), L_z),
+        {"phi": ("s_helix", phi), "z": ("s_link", z), "F_transmitted": ((), F), "L_z": ((), L_z),
          "converged": ((), 1), "wall_time": ((), 0.1)},
-        coords={"s_link": s, "s_helix": ("helix", s)}, attrs={param: value})
+        coords={"s_link": s, "s_helix": ("s_helix", s)}, attrs={param: value})
 
 
 def test_richardson_recovers_order_and_limit_of_a_power_law():

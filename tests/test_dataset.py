@@ -14,12 +14,12 @@ def ds():
 
 
 def test_interface(ds):
-    assert ds.F_z.dims == ("joint",) and "s" in ds.F_z.coords
+    assert ds.F_z.dims == ("s",) and "s" in ds.F_z.coords
     for v in ("x", "y", "z", "wall_force"):
-        assert ds[v].dims == ("link",) and "s_link" in ds[v].coords
+        assert ds[v].dims == ("s_link",) and "s_link" in ds[v].coords
     for v in ("L_z", "F_transmitted", "converged"):
         assert ds[v].ndim == 0
-    assert ds.sizes["joint"] == ds.sizes["link"] + 1
+    assert ds.sizes["s"] == ds.sizes["s_link"] + 1
     # arc length from the loaded end; F_z(0) is minus the load
     assert float(ds.s[0]) == 0.0 and float(ds.s[-1]) == pytest.approx(10.0)
     assert float(ds.F_z[0]) == -0.25
@@ -63,6 +63,6 @@ def test_contact_observables_are_consistent(ds):
     # Coulomb with the cap: |f| <= min(k_fr N, cap l0) link by link
     limit = np.minimum(0.8 * ds.wall_force.values, ds.attrs["friction_cap"] * ds.attrs["l0"])
     assert np.all(ds.friction_force.values <= limit * (1 + 1e-12))
-    assert ds.sizes["helix"] == ds.s_helix.size
-    if ds.sizes["helix"]:
+    assert ds.sizes["s_helix"] == ds.s_helix.size
+    if ds.sizes["s_helix"]:
         assert float(ds.s_helix[0]) >= float(ds.s_link[touching][0]) - 1e-12

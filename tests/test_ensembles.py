@@ -77,9 +77,9 @@ def _sim(L, seed, F, turns=2.0):
     shape = (shapes.helix(L=L, omega=2 * np.pi * turns / L, tips=0.0) if turns >= 1.0
              else shapes.planar_zigzag(L=L))
     return shape[["x", "y", "z", "wall_force", "friction_z", "friction_force", "F_z"]].assign(
-        {"F_transmitted": F, "L_z": 0.9 * L, "contact": ("link", shape["contact"].values), "phi": ("helix", phi),
-         "dphi_ds": ("helix", np.full(n, 0.3)), "converged": np.int8(1), "escaped": np.int8(0),
-         "residual_force": 1e-6, "wall_time": 1.0}).assign_coords(s_helix=("helix", np.linspace(0, L, n))).assign_attrs(
+        {"F_transmitted": F, "L_z": 0.9 * L, "contact": ("s_link", shape["contact"].values), "phi": ("s_helix", phi),
+         "dphi_ds": ("s_helix", np.full(n, 0.3)), "converged": np.int8(1), "escaped": np.int8(0),
+         "residual_force": 1e-6, "wall_time": 1.0}).assign_coords(s_helix=("s_helix", np.linspace(0, L, n))).assign_attrs(
         {"L": L, "pore_length": L, "seed": seed, "load": 0.25, "k_fr": 0.8, "R": 1.0, "EI": 1.0})
 
 
@@ -251,13 +251,13 @@ def _profile(seed, scale=1.0, contact=True, L=200.0, N=200, k_fr=0.8, load=0.25)
     geometry = (shapes.helix(L=L, omega=0.3, l0=L / N, tips=0.0) if contact
                 else shapes.planar_zigzag(L=L, half_waves=8, l0=L / N))
     return xr.Dataset(
-        {"F_z": ("joint", -F), "contact": ("link", np.full(N, int(contact), np.int8)),
+        {"F_z": ("s", -F), "contact": ("s_link", np.full(N, int(contact), np.int8)),
          **shapes.sliding_friction(F, k_fr),
-         **{c: ("link", geometry[c].values) for c in "xyz"},
-         "s_helix": ("helix", np.linspace(0, L, N)), "dphi_ds": ("helix", np.full(N, 0.3)),
-         "phi": ("helix", np.linspace(0, 9 if contact else 3, N)),    # 1.4 turns on the wall, or half a turn
+         **{c: ("s_link", geometry[c].values) for c in "xyz"},
+         "s_helix": ("s_helix", np.linspace(0, L, N)), "dphi_ds": ("s_helix", np.full(N, 0.3)),
+         "phi": ("s_helix", np.linspace(0, 9 if contact else 3, N)),    # 1.4 turns on the wall, or half a turn
          "F_transmitted": ((), F[-1]), "converged": ((), np.int8(1))},
-        coords={"s": ("joint", s), "s_link": ("link", 0.5 * (s[1:] + s[:-1]))}, attrs=attrs)
+        coords={"s": ("s", s), "s_link": ("s_link", 0.5 * (s[1:] + s[:-1]))}, attrs=attrs)
 
 
 def test_force_profile_ensemble_shows_the_lowest_seed_and_averages_the_fraction():
@@ -349,7 +349,7 @@ def test_a_figure_read_by_another_must_exist_and_be_of_the_right_kind():
 
 def _aligned(d):
     """The helix points of a constructed member at link centres (the bulk pitch reads z there)."""
-    return d.assign_coords(s_helix=("helix", d["s_link"].values[:: d.sizes["link"] // 8][:8]))
+    return d.assign_coords(s_helix=("s_helix", d["s_link"].values[:: d.sizes["s_link"] // 8][:8]))
 
 
 def _ramp_ladder(changes, switched=(), spread=0.3, n_seeds=8, saddle=None):

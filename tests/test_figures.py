@@ -116,9 +116,9 @@ def test_pitch_profile_on_a_model_helix_with_a_reversal():
     w = theory.helix_pitch_rate(F_l)
     w[120:] *= -1
     phi = np.concatenate([[0.0], np.cumsum(0.5 * 0.5 * (w[1:] + w[:-1]))])
-    sim = xr.Dataset({"F_z": ("joint", -F_j), "contact": ("link", np.ones(n, np.int8)), "dphi_ds": ("helix", w),
-                      "phi": ("helix", phi), **sliding_friction(F_j, 0.8)},
-                     coords={"s_link": ("link", s), "s_helix": ("helix", s), "s": ("joint", np.arange(n + 1) * 0.5)},
+    sim = xr.Dataset({"F_z": ("s", -F_j), "contact": ("s_link", np.ones(n, np.int8)), "dphi_ds": ("s_helix", w),
+                      "phi": ("s_helix", phi), **sliding_friction(F_j, 0.8)},
+                     coords={"s_link": ("s_link", s), "s_helix": ("s_helix", s), "s": ("s", np.arange(n + 1) * 0.5)},
                      attrs={"R": 1.0, "EI": 1.0, "L": 100.0, "l0": 0.5, "load": 0.2, "k_fr": 0.8})
     ds = postprocess.build("fig5", {"kind": "pitch_profile", "title": "t"}, {"m": sim})
     assert ds.attrs["n_reversals"] == 1
@@ -160,10 +160,10 @@ def _model_sim(L=200.0, N=200, k_fr=0.8, load=0.25, contact=True):
     attrs = {k: v for k, v in Scene(L=L, k_fr=k_fr, load=load, l0=L / N).to_dict().items()
              if not isinstance(v, (tuple, type(None)))}
     return xr.Dataset(
-        {"F_z": ("joint", -F), "contact": ("link", np.full(N, int(contact), np.int8)),
+        {"F_z": ("s", -F), "contact": ("s_link", np.full(N, int(contact), np.int8)),
          **sliding_friction(F, k_fr),
-         "phi": ("helix", np.linspace(0, 9, N)), "F_transmitted": ((), F[-1]), "converged": ((), np.int8(1))},
-        coords={"s": ("joint", s), "s_link": ("link", s_link)}, attrs={**attrs, "git_commit": "test"})
+         "phi": ("s_helix", np.linspace(0, 9, N)), "F_transmitted": ((), F[-1]), "converged": ((), np.int8(1))},
+        coords={"s": ("s", s), "s_link": ("s_link", s_link)}, attrs={**attrs, "git_commit": "test"})
 
 
 def test_paper_fit_comparison_is_stored_both_ways():

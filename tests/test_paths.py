@@ -192,7 +192,7 @@ def test_a_rod_well_below_the_fold_threshold_forms_a_helix_and_stays_in_the_pore
     for L, seed in ((40.0, 1), (40.0, 2), (80.0, 1)):
         ds = simulate(Scene(L=L, load=0.4, k_fr=0.8, seed=seed, name="below"), progress=False)
         assert ds.attrs["status"] == "converged" and int(ds.escaped) == 0
-        assert float(ds.L_z) > 0.85 * L and int(ds.contact.sum()) > 0.3 * ds.sizes["link"]  # a helix on the wall
+        assert float(ds.L_z) > 0.85 * L and int(ds.contact.sum()) > 0.3 * ds.sizes["s_link"]  # a helix on the wall
 
 
 def test_the_fold_threshold_scales_as_one_over_R_squared():

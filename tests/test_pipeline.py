@@ -153,11 +153,11 @@ def fake_sim(L, k_fr, load=0.25, N=100, s_h=2.0, F_end=None):
     attrs = dict(Scene(L=L, k_fr=k_fr, load=load, l0=L / N).to_dict())
     attrs = {k: v for k, v in attrs.items() if not isinstance(v, (tuple, type(None)))}
     return xr.Dataset(
-        {"F_z": ("joint", -F), "contact": ("link", contact), "phi": ("helix", phi), **sliding_friction(F, k_fr),
+        {"F_z": ("s", -F), "contact": ("s_link", contact), "phi": ("s_helix", phi), **sliding_friction(F, k_fr),
          "F_transmitted": ((), F[-1] if F_end is None else F_end), "L_z": ((), 0.9 * L),
          "converged": ((), np.int8(1)), "escaped": ((), np.int8(0)), "residual_force": ((), 1e-6),
          "wall_time": ((), 1.0)},
-        coords={"s": ("joint", s), "s_link": ("link", s_link)}, attrs={**attrs, "git_commit": "test"})
+        coords={"s": ("s", s), "s_link": ("s_link", s_link)}, attrs={**attrs, "git_commit": "test"})
 
 
 def test_force_profile_fit_recovers_the_simple_model():

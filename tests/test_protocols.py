@@ -64,7 +64,7 @@ def test_helix_start_depends_on_the_seed():
 
 
 def _member(seed, F, steps, protocol="ramp", turns=3.0):
-    return xr.Dataset({"F_transmitted": ((), F), "phi": (("helix",), [0.0, 2 * np.pi * turns])},
+    return xr.Dataset({"F_transmitted": ((), F), "phi": (("s_helix",), [0.0, 2 * np.pi * turns])},
                       attrs={"seed": seed, "ramp_steps": steps, "protocol": protocol})
 
 

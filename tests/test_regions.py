@@ -72,7 +72,7 @@ def test_contact_range_skips_the_isolated_tip_contacts():
     ds, _ = constructed(tip_end=6.0, detached_bottom=15.0)
     contact = ds["contact"].values.copy()
     contact[-1] = 1                                  # the support end touches the wall too
-    ds["contact"] = ("link", contact)
+    ds["contact"] = ("s_link", contact)
     s_h, s_e = measure.contact_range(ds)
     assert s_h == pytest.approx(6.0, abs=L0)
     assert s_e == pytest.approx(L - 15.0, abs=L0)
@@ -84,9 +84,9 @@ def test_contact_range_of_a_rod_without_a_run_on_the_wall():
     ds, _ = constructed()
     contact = np.zeros(N, dtype=np.int8)
     contact[[10, 60, 150]] = 1
-    ds["contact"] = ("link", contact)
+    ds["contact"] = ("s_link", contact)
     assert measure.contact_range(ds) == pytest.approx((10 * L0, 151 * L0))
-    ds["contact"] = ("link", np.zeros(N, dtype=np.int8))
+    ds["contact"] = ("s_link", np.zeros(N, dtype=np.int8))
     assert measure.contact_range(ds) == (L, L)
 
 

@@ -60,8 +60,8 @@ def _probe(status, F, shape=None, n=40):
     if shape is not None:
         phi = np.linspace(0, 4 * np.pi, n) if shape == "helix" else np.zeros(n)
         rho = 0.9 if shape == "helix" else 0.0
-        ds = ds.assign(x=("link", rho * np.cos(phi)), y=("link", rho * np.sin(phi)), z=("link", s[::-1].copy()))
-        ds = ds.assign_coords(s_link=("link", s))
+        ds = ds.assign(x=("s_link", rho * np.cos(phi)), y=("s_link", rho * np.sin(phi)), z=("s_link", s[::-1].copy()))
+        ds = ds.assign_coords(s_link=("s_link", s))
         ds.attrs["R"] = 1.0
     return ds
 

@@ -34,12 +34,12 @@ def constructed_helix() -> xr.Dataset:
     phi = W * s_link
     c = np.sqrt(1 - RHO**2 * W**2)
     return xr.Dataset(
-        {"x": (("link",), RHO * np.cos(phi)), "y": (("link",), RHO * np.sin(phi)),
-         "z": (("link",), L - c * s_link), "F_z": (("joint",), -F_joint),
-         "friction_phi": (("link",), f_phi), "contact": (("link",), np.ones(N, dtype=np.int8)),
-         "wall_force": (("link",), torque.helix_wall_force(RHO, W, tau_link, EI) * L0),
-         "dphi_ds": (("helix",), np.full(N, W))},
-        coords={"s": (("joint",), s), "s_link": (("link",), s_link), "s_helix": (("helix",), s_link)},
+        {"x": (("s_link",), RHO * np.cos(phi)), "y": (("s_link",), RHO * np.sin(phi)),
+         "z": (("s_link",), L - c * s_link), "F_z": (("s",), -F_joint),
+         "friction_phi": (("s_link",), f_phi), "contact": (("s_link",), np.ones(N, dtype=np.int8)),
+         "wall_force": (("s_link",), torque.helix_wall_force(RHO, W, tau_link, EI) * L0),
+         "dphi_ds": (("s_helix",), np.full(N, W))},
+        coords={"s": (("s",), s), "s_link": (("s_link",), s_link), "s_helix": (("s_helix",), s_link)},
         attrs={"L": L, "l0": L0, "R": 1.0, "EI": EI})
 
 

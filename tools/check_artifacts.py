@@ -38,7 +38,7 @@ def check_netcdf(path: Path) -> list[str]:
                 bad = int(np.size(var.values) - np.count_nonzero(np.isfinite(var.values)))
                 if bad:
                     errors.append(f"{path}: variable {name!r} has {bad} NaN/inf values")
-            if var.size == 0 and name in ds.data_vars and var.dims and var.dims[0] not in ("helix", "time"):
+            if var.size == 0 and name in ds.data_vars and var.dims and var.dims[0] not in ("s_helix", "time"):
                 errors.append(f"{path}: variable {name!r} is empty")
         if "converged" in ds and int(np.min(ds["converged"].values)) == 0:
             print(f"note: {path}: not every run converged", file=sys.stderr)

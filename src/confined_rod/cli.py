@@ -21,9 +21,14 @@ from .errors import DivergenceError, OutputPathError, ResourceLimitError, SceneE
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m confined_rod",
                                      description="Confined elastic rod simulations")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
     p_run = sub.add_parser("run", help="run one scene (YAML mapping of Scene fields) and write a netCDF dataset")
-    p_run.add_argument("scene", type=Path, help="scene YAML file")
+    p_run.add_argument("scene", type=Path, nargs="?", help="scene YAML file (default: every key at its default, "
+                                                           "changed by --set)")
+    p_run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                       help="set one scene key, repeatable (--set L=40 --set k_fr=0.3); the value is read as YAML "
+                            "and validated like a scene file")
     p_run.add_argument("-o", "--output", type=Path, required=True, help="output netCDF file")
     p_run.add_argument("-q", "--quiet", action="store_true", help="no progress messages")
     p_run.add_argument("--budget", type=float, default=None, metavar="SECONDS",
@@ -33,23 +38,34 @@ def main(argv: list[str] | None = None) -> int:
                                                   "(strict YAML with line numbers, schema, every scene), without "
                                                   "Snakemake; exit 2 with a one-line message if it is invalid")
     p_check.add_argument("config", type=Path, nargs="?", default=Path("config/config.yaml"))
-    p_show = sub.add_parser("show-defaults", help="print every scene field with its resolved default")
+    p_show = sub.add_parser("show-defaults", help="print a scene file with every key, its unit and description "
+                                                  "(YAML comments); defaults that follow other keys are null")
     p_show.add_argument("--R", type=float, default=1.0)
     p_show.add_argument("--EI", type=float, default=1.0)
     p_schema = sub.add_parser("schema", help="print (or write, or check) the pipeline config's JSON schema, "
                                              "generated from the scene parameters and the figure kinds")
     p_schema.add_argument("-o", "--output", type=Path, help="write it to this file")
     p_schema.add_argument("--check", type=Path, metavar="FILE", help="exit 1 if FILE differs from it")
+    p_docs = sub.add_parser("config-docs", help="print (or write, or check) config/README.md: every config file "
+                                                "and every config key, generated from the config schema")
+    p_docs.add_argument("-o", "--output", type=Path, help="write it to this file (config/README.md)")
+    p_docs.add_argument("--check", type=Path, metavar="FILE", help="exit 1 if FILE differs from it")
     args = parser.parse_args(argv)
 
-    if args.command == "schema":
-        from .pipeline.schema import render
+    if args.command in ("schema", "config-docs"):
+        if args.command == "schema":
+            from .pipeline.schema import render
 
-        text = render()
+            text, what = render(), "the generated schema"
+        else:
+            from .pipeline.config_docs import render as render_docs
+            from .sim.scenes import Scene
+
+            text, what = render_docs(Scene), "the generated config documentation"
         if args.check:
-            if not args.check.is_file() or args.check.read_text() != text:
-                print(f"error: {args.check} is not the generated schema; regenerate it with "
-                      f"python -m confined_rod schema -o {args.check}", file=sys.stderr)
+            if not args.check.is_file() or args.check.read_text(encoding="utf-8") != text:
+                print(f"error: {args.check} is not {what}; regenerate it with "
+                      f"python -m confined_rod {args.command} -o {args.check}", file=sys.stderr)
                 return 1
             return 0
         if args.output:
@@ -72,16 +88,54 @@ def main(argv: list[str] | None = None) -> int:
     from .sim.scenes import Scene
 
     if args.command == "show-defaults":
-        import yaml
-
         try:
-            defaults = Scene(R=args.R, EI=args.EI).to_dict()
+            scene = Scene(R=args.R, EI=args.EI)
         except SceneError as exc:
             print(f"error: {str(exc).replace('scene ' + repr('scene') + ': ', '')} (--{_flag(exc)})", file=sys.stderr)
             return 2
-        print(yaml.safe_dump(defaults, sort_keys=False), end="")
+        print(f"# A scene file of confined_rod {_version()}: python -m confined_rod run THIS.yaml -o out.nc\n"
+              "# Units in [..] are reduced (R = EI = beta_ph = 1 unless R, EI are given): multiples of the scene's\n"
+              "# R and EI; with unit_system: SI they are SI (R in m, EI in J m, forces in N, times in s).\n"
+              "# null: a default that follows other keys (its value for this R, EI and L in the comment).")
+        print(scene.template(), end="")
         return 0
     return run(args)
+
+
+def _version() -> str:
+    from ._version import __version__
+
+    return __version__
+
+
+def _overrides(pairs: list[str]) -> dict:
+    """``--set key=value`` pairs as a mapping (values read as YAML); SceneError names a bad one."""
+    import yaml
+
+    from .sim.scenes import Scene
+
+    out = {}
+    for pair in pairs:
+        key, eq, text = pair.partition("=")
+        key = key.strip()
+        if not eq or not key:
+            raise SceneError(f"--set {pair!r}: expected KEY=VALUE, e.g. --set L=40")
+        if key not in Scene.field_names():
+            raise SceneError(f"--set {pair!r}: unknown key {key!r}; known keys: {', '.join(Scene.field_names())}")
+        try:
+            out[key] = yaml.safe_load(text) if text.strip() else None
+        except yaml.YAMLError:
+            raise SceneError(f"--set {pair!r}: the value of {key!r} is not valid YAML") from None
+    return out
+
+
+def _kernels_cached() -> bool:
+    """Whether numba's cache holds the implicit solver's compiled kernels (index files *.nbi,
+    in NUMBA_CACHE_DIR or in __pycache__ beside the sources)."""
+    import os
+
+    place = Path(os.environ.get("NUMBA_CACHE_DIR") or Path(__file__).resolve().parent / "sim")
+    return place.is_dir() and next(place.rglob("implicit_kernels.*.nbi"), None) is not None
 
 
 def _flag(exc: SceneError) -> str:
@@ -120,7 +174,9 @@ def run(args: argparse.Namespace) -> int:
         return refuse(f"invalid value for '--budget': {args.budget!r} (must be > 0 seconds)")
     try:
         check_output_path(args.output, suffix=".nc")
-        scene = Scene.from_yaml(args.scene)
+        overrides = _overrides(args.overrides)
+        scene = (Scene.from_yaml(args.scene, overrides) if args.scene is not None
+                 else Scene.from_dict({"name": "scene", **overrides}))
     except (SceneError, OutputPathError) as exc:
         return refuse(str(exc))
     cost = limits.estimated_wall_time(scene)
@@ -137,6 +193,14 @@ def run(args: argparse.Namespace) -> int:
 
     def terminated(signum, frame):
         raise KeyboardInterrupt
+
+    if not args.quiet:
+        if not _kernels_cached():
+            print("compiling the numba kernels (first run only, about 20 s; cached for later runs)",
+                  file=sys.stderr, flush=True)
+        if cost > 10.0:
+            print(f"{scene.name}: {scene.N} links, estimated wall time ~{cost:.0f} s "
+                  "(progress follows every few seconds)", file=sys.stderr, flush=True)
 
     previous = signal.signal(signal.SIGTERM, terminated)
     try:

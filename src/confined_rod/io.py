@@ -14,8 +14,15 @@ import numpy as np
 import xarray as xr
 
 CONVENTIONS = "CF-1.10"
-UNITS_NOTE = ("units are combinations of the scene's cylinder radius R and bending stiffness EI "
-              "(and beta_ph, the drag per length, for time); with R = EI = 1 they are the internal units")
+#: the global attribute 'units_note', by the scene's unit system (quantities.UNIT_SYSTEMS)
+UNITS_NOTE = {
+    "reduced": ("reduced units: every value is a multiple of the combination of the scene's cylinder radius R, "
+                "bending stiffness EI and drag per length beta_ph named in the variable's 'units_reduced' "
+                "attribute (so its CF 'units' is '1'); with R = EI = 1 these are the internal units"),
+    "SI": ("SI units: the scene's R is in m, EI in J m, forces in N, and the drag per length beta_ph is 1 Pa s "
+           "(times in s); each variable's 'units_reduced' names the combination of R, EI and beta_ph it scales "
+           "with"),
+}
 
 
 @functools.cache
@@ -82,9 +89,14 @@ def netcdf_attr(value: Any) -> Any:
 
 
 def finalize(ds: xr.Dataset, title: str, params: dict[str, Any]) -> xr.Dataset:
-    """Global CF attributes, parameters and provenance."""
+    """Global CF attributes, parameters and provenance; every variable's CF units for the unit
+    system of ``params`` (its 'unit_system', default reduced: quantities.apply_unit_system)."""
+    from .quantities import apply_unit_system
+
+    system = str(params.get("unit_system", "reduced"))
+    apply_unit_system(ds, system)
     now = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-    ds.attrs.update({"Conventions": CONVENTIONS, "title": title, "units_note": UNITS_NOTE})
+    ds.attrs.update({"Conventions": CONVENTIONS, "title": title, "units_note": UNITS_NOTE[system]})
     for k, v in params.items():
         ds.attrs[k] = netcdf_attr(v)
     prov = provenance()
@@ -102,9 +114,20 @@ def check_finite(ds: xr.Dataset, action: str = "write the dataset") -> None:
 
 def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write netCDF4 atomically: a temporary file in the same folder, renamed on success,
-    so a failed job leaves no half-written file."""
+    so a failed job leaves no half-written file.  Refuses NaN and a reduced unit left as a
+    variable's CF ``units`` (UDUNITS reads 'R' as the roentgen; io.finalize converts them)."""
+    from .quantities import is_reduced
+
     check_finite(ds)
-    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
+    for name, var in ds.variables.items():
+        units = var.attrs.get("units")
+        if isinstance(units, str) and is_reduced(units):
+            raise ValueError(f"variable {name!r} has the reduced unit {units!r} as its CF units; refusing to write "
+                             "the dataset (io.finalize gives every variable its CF units)")
+    # no _FillValue: nothing is missing (check_finite), and CF forbids one on a coordinate variable
+    encoding = {name: {"_FillValue": None} for name, var in ds.variables.items()
+                if np.issubdtype(var.dtype, np.floating)}
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding))
 
 
 def write_text(text: str, path: str | Path) -> Path:

@@ -6,13 +6,25 @@ extends this table (so a new figure quantity re-runs no simulation).
 Internal units: lengths in R, forces in EI/R^2, force per length in EI/R^3,
 torques in EI/R, time in beta_ph R^4/EI (cylinder radius R, bending stiffness
 EI, physical drag coefficient per unit length beta_ph).  A dataset stores the
-values in the units of the scene (a scene with R = 2e-6 m and EI = 1e-21 J m
-stores lengths in metres); ``units`` then names the combination of R and EI.
+values in the units of the scene.  Each quantity declares its unit in these reduced
+units (``Quantity.units``, e.g. ``"EI R-2"``); what a dataset's CF ``units`` attribute says
+follows from the scene's ``unit_system`` (:func:`cf_units`):
+
+- ``reduced`` (default): the numbers are multiples of the reduced unit, so ``units`` is
+  dimensionless, ``"1"`` (``"rad"`` for an angle, ``"rad"`` for an angle per reduced length), and
+  the reduced unit is named in ``units_reduced``;
+- ``SI``: the scene's numbers are SI (R in m, EI in J m, load in N, with the drag per length
+  beta_ph = 1 Pa s): ``units`` is the SI unit (``"N"``, ``"m"``, ``"s"``, ``"N m-1"``), and
+  ``units_reduced`` still names the combination of R and EI.
+
+No reduced symbol ever reaches ``units``: UDUNITS would read ``R`` as the roentgen.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Any, Iterable
+
+import re
 
 import numpy as np
 import xarray as xr
@@ -112,6 +124,10 @@ SCENE_PARAMETERS = [
            "beta_ph R4 EI-1", _NONNEG),
     _param("snapshot_growth", "g_{snap}", "growth factor of the snapshot times (1: a fixed interval; g > 1: at 0, "
            "snapshot_interval, then each time the simulated time grows by g)", "1", {"type": "number", "minimum": 1}),
+    _param("unit_system", "", "how the scene's numbers are meant, and so the datasets' CF units: reduced (multiples "
+           "of the scene's R, EI and beta_ph; units '1', the combination in 'units_reduced') or SI (R in m, EI in J m, "
+           "load in N, drag per length beta_ph = 1 Pa s; units 'm', 'N', 's', ...); the computation is the same", "1",
+           {"enum": ["reduced", "SI"]}),
 ]
 
 #: what the scene files (simulations, probes, load paths) store
@@ -201,6 +217,82 @@ _PRETTY_UNITS = {"R": "R", "EI R-2": "EI/R^2", "EI R-3": "EI/R^3", "rad R-1": "1
 def pretty_unit(units: str) -> str:
     """LaTeX form of a CF unit string of this package ('EI R-2' -> 'EI/R^2')."""
     return _PRETTY_UNITS.get(units, units)
+
+
+#: how a scene's numbers are meant (Scene.unit_system): reduced (R = EI = beta_ph = 1 units of the
+#: scene's own R and EI) or SI (R in m, EI in J m, load in N, beta_ph = 1 Pa s)
+UNIT_SYSTEMS = ("reduced", "SI")
+#: the reduced units' symbols, as SI base-unit exponents (kg, m, s): R a length, EI = J m, beta_ph = Pa s
+_REDUCED_BASES = {"R": (0, 1, 0), "EI": (1, 3, -2), "beta_ph": (1, -1, -1)}
+#: SI names of the dimensions (kg, m, s exponents) the package's quantities have
+_SI_NAMES = {(0, 0, 0): "1", (0, 1, 0): "m", (0, -1, 0): "m-1", (0, 0, 1): "s", (1, 1, -2): "N",
+             (1, 0, -2): "N m-1", (1, -1, -2): "N m-2", (1, 2, -2): "N m", (1, 3, -2): "J m",
+             (-1, -1, 2): "N-1", (-1, -2, 2): "N-1 m-1"}
+_TOKEN = re.compile(r"([A-Za-z_]+?|1)(-?\d+|-[a-z]+)?")
+#: a unit with no fixed dimension: the covariance of parameters of different units
+MIXED = "mixed"
+
+
+def _tokens(units: str) -> list[tuple[str, int | str]]:
+    out: list[tuple[str, int | str]] = []
+    for tok in units.split():
+        m = _TOKEN.fullmatch(tok)
+        if m is None:
+            raise ValueError(f"unit {units!r}: cannot read {tok!r}")
+        exp = m.group(2) or "1"
+        out.append((m.group(1), int(exp) if exp.lstrip("-").isdigit() else exp))
+    return out
+
+
+def is_reduced(units: str) -> bool:
+    """True if a unit string names a reduced unit (a combination of R, EI, beta_ph, or 'mixed')."""
+    return units == MIXED or any(base in _REDUCED_BASES for base, _ in _tokens(units))
+
+
+def cf_units(units: str, system: str = "reduced") -> str:
+    """The CF (UDUNITS) unit of a quantity whose reduced unit is ``units``, in a scene of
+    ``system``: ``cf_units("EI R-2") == "1"``, ``cf_units("EI R-2", "SI") == "N"``,
+    ``cf_units("rad R-1") == "rad"``, ``cf_units("rad R-1", "SI") == "rad m-1"``; units with no
+    reduced symbol ("1", "rad", "s" of a wall time) are returned as they are.  A unit with a
+    symbolic exponent (the fit prefactor A of A (l0' + s)^c: "EI R-2 R-c") or 'mixed' (a
+    covariance of parameters of different units) has no CF unit: "1", with the reduced unit
+    kept in ``units_reduced``."""
+    if system not in UNIT_SYSTEMS:
+        raise ValueError(f"unit system {system!r}: must be one of {', '.join(UNIT_SYSTEMS)}")
+    if units == MIXED:
+        return "1"
+    tokens = _tokens(units)
+    if not any(base in _REDUCED_BASES for base, _ in tokens):
+        return units
+    if any(isinstance(e, str) for _, e in tokens):
+        return "1"
+    rest = [b if e == 1 else f"{b}{e}" for b, e in tokens if b not in _REDUCED_BASES and b != "1"]
+    if system == "reduced":
+        return " ".join(rest) or "1"
+    dims = np.zeros(3, dtype=int)
+    for base, exp in tokens:
+        if base in _REDUCED_BASES:
+            dims += int(exp) * np.array(_REDUCED_BASES[base])
+    key = tuple(int(d) for d in dims)
+    si = _SI_NAMES.get(key) or " ".join(f"{b}{e if e != 1 else ''}" for b, e in zip(("kg", "m", "s"), key) if e)
+    return " ".join(([] if si == "1" else [si]) + rest) or "1"
+
+
+def cf_attrs(units: str, system: str = "reduced") -> dict[str, str]:
+    """The CF unit attributes of a variable whose reduced unit is ``units``: ``units`` and, when
+    it differs, ``units_reduced`` (the combination of R, EI and beta_ph)."""
+    cf = cf_units(units, system)
+    return {"units": cf} if cf == units else {"units": cf, "units_reduced": units}
+
+
+def apply_unit_system(ds: xr.Dataset, system: str = "reduced") -> xr.Dataset:
+    """Give every variable of ``ds`` whose ``units`` is still a reduced unit (as the tables and
+    the figure kinds write them) its CF units for ``system`` (in place; returns ``ds``)."""
+    for var in ds.variables.values():
+        units = var.attrs.get("units")
+        if isinstance(units, str) and "units_reduced" not in var.attrs and is_reduced(units):
+            var.attrs.update(cf_attrs(units, system))
+    return ds
 
 
 class Table(dict):

@@ -144,6 +144,18 @@ def job_priority(wildcards):
     return int(limits.JOB_STARTUP_S + pipeline.solver_estimate(config, wildcards.figure, wildcards.scene))
 
 
+def member_estimate(kind):
+    """The job's estimated wall time (s) for the build's progress line (pipeline.progress): the
+    start-up alone for a scene its batch ran, else its own run's estimate."""
+
+    def estimate(wildcards):
+        if pipeline.member_batch(config, kind, wildcards.figure, wildcards.scene):
+            return int(limits.JOB_STARTUP_S)
+        return job_priority(wildcards)
+
+    return estimate
+
+
 def path_priority(wildcards):
     """A load path relaxes the rod at tens of loads: ten times one run's estimate."""
     return 10 * job_priority(wildcards)

@@ -22,6 +22,7 @@ rule batch:
     resources:
         mem_mb=1000,
         runtime=batch_runtime,
+        est_s=batch_priority,
     conda:
         "../envs/confined_rod.yaml"
     script:
@@ -55,6 +56,7 @@ rule simulate:
     resources:
         mem_mb=1000,
         runtime=simulate_runtime,
+        est_s=member_estimate("simulate"),
     conda:
         "../envs/confined_rod.yaml"
     shell:
@@ -88,6 +90,7 @@ rule probe:
     resources:
         mem_mb=1000,
         runtime=30,
+        est_s=member_estimate("probe"),
     conda:
         "../envs/confined_rod.yaml"
     shell:
@@ -118,6 +121,7 @@ rule load_path:
     resources:
         mem_mb=1000,
         runtime=60,
+        est_s=path_priority,
     conda:
         "../envs/confined_rod.yaml"
     script:

@@ -10,16 +10,13 @@ from __future__ import annotations
 import textwrap
 from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
+import matplotlib.ticker as ticker
+import numpy as np
+import xarray as xr
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.ticker as ticker  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from ..io import atomic_write, check_finite  # noqa: E402
-from .figure_quantities import param_text  # noqa: E402
+from ..io import atomic_write, check_finite
+from .figure_quantities import param_text
 
 #: Figures are drawn at the size they are printed at: the manuscript includes each at its natural
 #: size (paper.figure_scale: scaled down only if wider than the text width, TEXT_WIDTH_IN, or taller

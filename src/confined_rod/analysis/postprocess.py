@@ -61,6 +61,11 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
             "figure_title": fig_cfg.get("title", figure), "scenes": list(used),
             "scene_git_commits": sorted({str(d.attrs.get("git_commit", "unknown")) for d in sims.values()}),
             "not_at_equilibrium": run_checks.join(inside), "left_out": run_checks.join(left_out)}
+    systems = sorted({str(d.attrs.get("unit_system", "reduced")) for d in sims.values()})
+    if len(systems) > 1:
+        raise ValueError(f"figure {figure!r} mixes scenes of unit systems {', '.join(systems)}: its dataset can "
+                         "state one (set unit_system in the figure's defaults)")
+    meta["unit_system"] = systems[0] if systems else "reduced"
     if hasattr(module, "meta"):
         meta.update(module.meta(fig_cfg, used))
     else:

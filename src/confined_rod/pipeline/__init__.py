@@ -5,6 +5,7 @@ line) imports it.
 - :mod:`.configs`: a config read strictly, checked (JSON schema, every scene built, the figure
   kinds' rules), its sweeps and seed ensembles expanded into scenes, the captions;
 - :mod:`.schema`: the config's JSON schema, generated from the scene parameters and the kinds;
+- :mod:`.config_docs`: config/README.md, every config file and key, generated from that schema;
 - :mod:`.targets`: the files each figure reads, what a stored file must hold, every artifact;
 - :mod:`.batches`: small scenes run in one process;
 - :mod:`.code`: the code each rule depends on (its re-run triggers).

@@ -115,9 +115,9 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
     data["state_class"].attrs.update(flag_values=np.arange(len(CLASSES), dtype=np.int8),
                                      flag_meanings=" ".join(CLASSES))
     for c in ("x", "y", "z"):
-        data[c] = variable(("load", "link"), np.asarray(rows[c]), c)
+        data[c] = variable(("load", "s_link"), np.asarray(rows[c]), c)
     coords = {"load": variable(("load",), np.asarray(loads), "load"),
-              "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
+              "s_link": variable(("s_link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     params = dict(scene.to_dict())
     params.update({"mode": mode, "straight_max": STRAIGHT_MAX, "planar_max": PLANAR_MAX})
@@ -236,7 +236,7 @@ def _relax_with_shapes(scene: Scene, st: RunState, stepper) -> list[tuple[float,
 def _shape_variables(scene: Scene, shapes) -> dict[str, xr.Variable]:
     """snap_x, snap_y, snap_z (snapshot, link), links from the loaded end as in every dataset."""
     order = np.arange(scene.N)[::-1]
-    return {f"snap_{c}": variable(("snapshot", "link"), np.array([r[order, i] for _, r, _ in shapes]), f"snap_{c}")
+    return {f"snap_{c}": variable(("snapshot", "s_link"), np.array([r[order, i] for _, r, _ in shapes]), f"snap_{c}")
             for i, c in enumerate("xyz")}
 
 
@@ -287,16 +287,16 @@ def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
                      ("converged", conv), ("state_load", sc.load)):
             per_state[k].append(v)
     for k in ("x", "y", "z", "dphi_ds"):
-        data[k] = variable(("state", "link"), np.array(per_state[k]), k)
+        data[k] = variable(("state", "s_link"), np.array(per_state[k]), k)
     for k in ("contact", "in_stretch"):
-        data[k] = variable(("state", "link"), np.array(per_state[k], dtype=np.int8), k)
+        data[k] = variable(("state", "s_link"), np.array(per_state[k], dtype=np.int8), k)
     for k in ("L_z", "F_transmitted"):
         data[k] = variable(("state",), per_state[k], k)
     data["converged"] = variable(("state",), np.array(per_state["converged"], dtype=np.int8), "converged")
     data["state_load"] = variable(("state",), per_state["state_load"], "load")
     coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "time"),
               "state": variable(("state",), np.array([s[0] for s in states], dtype=object), "state"),
-              "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
+              "s_link": variable(("s_link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     params = dict(scene.to_dict())
     params.update({"planar_stage_converged": int(planar_converged), "snap_growth": SNAP_GROWTH,
@@ -367,7 +367,7 @@ def event(scene: Scene) -> xr.Dataset:
     data["converged"] = variable((), np.int8(st.converged), "converged")
     data["escaped"] = variable((), np.int8(st.escaped), "escaped")
     coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "time"),
-              "s_link": variable(("link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
+              "s_link": variable(("s_link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     extra = {"snap_growth": SNAP_GROWTH, "free_span": scene.free_span(), "follow_escape": FOLLOW_ESCAPE,
              "escape_time": float(t_escape) if st.escaped else "none"}

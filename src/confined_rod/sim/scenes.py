@@ -49,6 +49,7 @@ LOWER_END = QUANTITIES["lower_end"].choices
 ROTATIONAL_DRAG = QUANTITIES["rotational_drag"].choices
 SOLVERS = QUANTITIES["solver"].choices
 BENDING_CONSTANT = QUANTITIES["bending_constant"].choices
+UNIT_SYSTEMS = QUANTITIES["unit_system"].choices
 
 
 @dataclass(frozen=True)
@@ -146,6 +147,7 @@ class Scene:
     bending_constant: str = "corrected"
     snapshot_interval: float = 0.0
     snapshot_growth: float = 1.0
+    unit_system: str = "reduced"
     name: str = "scene"
     #: identifies this instance: dataclasses.replace copies it, which tells a resolved
     #: default of the replaced scene (re-resolved) from one passed in (kept)
@@ -288,22 +290,67 @@ class Scene:
             if key not in known:
                 raise SceneError(f"unknown key {_short(key)} (value {_short(data[key])}); "
                                  f"known keys: {', '.join(sorted(known))}")
-        return cls(**data)
+        scene = cls(**data)
+        # user input (a scene file, run --set, a config): an entrance below the rod's top only with
+        # the end condition that keeps the loaded end above it; a library call may still build the
+        # free case (the rod's top then rests on the block's face; the tests of 'escaped' use it)
+        if scene.free_span() > 0 and scene.ends != "guided":
+            raise SceneError(
+                f"scene {_short(scene.name)}: invalid value for 'pore_length': {scene.pore_length:g} (shorter than "
+                f"L = {scene.L:g} with ends = {scene.ends!r}: the top {scene.free_span():g} of the rod would start "
+                "outside the pore and the run end 'escaped'; leave pore_length out (it follows L) or set "
+                "ends: guided, the open entrance of Fig 8)")
+        return scene
 
     @classmethod
-    def from_yaml(cls, path: str | Path) -> "Scene":
+    def from_yaml(cls, path: str | Path, overrides: dict[str, Any] | None = None) -> "Scene":
         """Read a scene file: a YAML mapping of Scene fields, at most 1 MiB, without
-        duplicate keys or aliases; ``name`` defaults to the file's stem."""
+        duplicate keys or aliases; ``name`` defaults to the file's stem.  ``overrides`` (the
+        command line's ``--set key=value``) replace the file's values."""
         from ..io import read_yaml
 
         path = Path(path)
         data = read_yaml(path, what="scene file", error=SceneError, max_bytes=MAX_SCENE_FILE_BYTES)
-        if data is None:
+        if data is None and not overrides:
             raise SceneError(f"scene file {str(path)!r} is empty; give at least one key, e.g. 'L: 20' "
                              "(python -m confined_rod show-defaults lists them all)")
+        data = {} if data is None else data
         if isinstance(data, dict):
             data.setdefault("name", path.stem)
+            data.update(overrides or {})
         return cls.from_dict(data)
+
+    def template(self) -> str:
+        """This scene as a commented YAML scene file (``show-defaults``): every key with its unit
+        and description; a default that follows other keys written as null (so an edited
+        template stays consistent: change L and pore_length follows), its value in the comment."""
+        from ..quantities import QUANTITIES, pretty_unit
+
+        lines = []
+        for key, value in self.to_dict().items():
+            q = QUANTITIES.get(key)
+            if not self.given(key):
+                shown = "null"
+                note = f"default {float(getattr(self, key)):g}, follows {DERIVED_FROM[key]}"
+            else:
+                shown = _yaml_value(value)
+                note = ""
+            unit = pretty_unit(q.units).replace("{", "").replace("}", "").replace("\\", "") if q else ""
+            desc = q.long_name if q else ("name of the run (default: the scene file's name)" if key == "name" else "")
+            comment = "; ".join(x for x in (f"[{unit}]" if unit else "", desc, note) if x)
+            lines.append(f"{key}: {shown}  # {comment}" if comment else f"{key}: {shown}")
+        return "\n".join(lines) + "\n"
+
+
+#: what a numerical default follows (show-defaults writes it as null with this note)
+DERIVED_FROM = {"l0": "R", "k_ph": "EI/R^2", "k_w": "EI/R^3", "friction_cap": "EI/R^3", "perturbation": "R",
+                "kick": "R", "t_max": "R^4/EI and the solver", "pore_length": "L", "dx_max": "R", "k_t": "k_w"}
+
+
+def _yaml_value(value: Any) -> str:
+    import yaml
+
+    return yaml.safe_dump(value, default_flow_style=True).strip().removesuffix("...").strip()
 
 
 class _Default(float):
@@ -365,7 +412,7 @@ def _validate(s: Scene) -> None:
         fail("seed", f"must be an integer in [0, {limits.SEED_MAX}] (stored as a 64-bit integer)")
     for key, allowed in (("protocol", PROTOCOLS), ("ends", ENDS), ("lower_end", LOWER_END),
                          ("rotational_drag", ROTATIONAL_DRAG), ("solver", SOLVERS),
-                         ("bending_constant", BENDING_CONSTANT)):
+                         ("bending_constant", BENDING_CONSTANT), ("unit_system", UNIT_SYSTEMS)):
         if getattr(s, key) not in allowed:
             fail(key, f"must be one of {', '.join(allowed)}")
     bf = s.body_force

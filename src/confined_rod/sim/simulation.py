@@ -23,11 +23,11 @@ def _snapshot_variables(scene: Scene, st) -> dict[str, xr.Variable]:
     and friction forces on the links, evaluated on the stored state as at the end of a run
     (links from the loaded end)."""
     snaps = [obs.compute(scene, r, t) for r, t in zip(st.snapshot_r, st.snapshot_t)]
-    data = {f"snap_{c}": variable(("time", "link"), np.array([o.r[:, i] for o in snaps]), f"snap_{c}")
+    data = {f"snap_{c}": variable(("time", "s_link"), np.array([o.r[:, i] for o in snaps]), f"snap_{c}")
             for i, c in enumerate("xyz")}
-    data["snap_F_z"] = variable(("time", "joint"), np.array([o.F_z for o in snaps]), "snap_F_z")
+    data["snap_F_z"] = variable(("time", "s"), np.array([o.F_z for o in snaps]), "snap_F_z")
     for key in ("wall_force", "friction_z", "friction_phi"):
-        data[f"snap_{key}"] = variable(("time", "link"), np.array([getattr(o, key) for o in snaps]), f"snap_{key}")
+        data[f"snap_{key}"] = variable(("time", "s_link"), np.array([getattr(o, key) for o in snaps]), f"snap_{key}")
     return data
 
 
@@ -61,25 +61,25 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         status, reason = "time_cap", (f"time cap t_max = {scene.t_max:.6g} reached with eps_F = {st.eps_F:.2e}, "
                                       f"eps_M = {st.eps_M:.2e} above tol = {equilibrium_tol(scene):.2e}")
     data = {
-        "F_z": variable(("joint",), o.F_z, "F_z"),
-        "x": variable(("link",), o.r[:, 0], "x"),
-        "y": variable(("link",), o.r[:, 1], "y"),
-        "z": variable(("link",), o.r[:, 2], "z"),
-        "tx": variable(("link",), o.t[:, 0], "tx"),
-        "ty": variable(("link",), o.t[:, 1], "ty"),
-        "tz": variable(("link",), o.t[:, 2], "tz"),
-        "wall_force": variable(("link",), o.wall_force, "wall_force"),
-        "wall_force_density": variable(("link",), o.wall_force / scene.l0, "wall_force_density"),
-        "contact": variable(("link",), o.contact, "contact"),
-        "friction_force": variable(("link",), o.friction_force, "friction_force"),
-        "friction_z": variable(("link",), o.friction_z, "friction_z"),
-        "friction_phi": variable(("link",), o.friction_phi, "friction_phi"),
-        "stuck": variable(("link",), o.stuck, "stuck"),
-        "phi": variable(("helix",), o.phi, "phi"),
-        "dphi_ds": variable(("helix",), o.dphi_ds, "dphi_ds"),
+        "F_z": variable(("s",), o.F_z, "F_z"),
+        "x": variable(("s_link",), o.r[:, 0], "x"),
+        "y": variable(("s_link",), o.r[:, 1], "y"),
+        "z": variable(("s_link",), o.r[:, 2], "z"),
+        "tx": variable(("s_link",), o.t[:, 0], "tx"),
+        "ty": variable(("s_link",), o.t[:, 1], "ty"),
+        "tz": variable(("s_link",), o.t[:, 2], "tz"),
+        "wall_force": variable(("s_link",), o.wall_force, "wall_force"),
+        "wall_force_density": variable(("s_link",), o.wall_force / scene.l0, "wall_force_density"),
+        "contact": variable(("s_link",), o.contact, "contact"),
+        "friction_force": variable(("s_link",), o.friction_force, "friction_force"),
+        "friction_z": variable(("s_link",), o.friction_z, "friction_z"),
+        "friction_phi": variable(("s_link",), o.friction_phi, "friction_phi"),
+        "stuck": variable(("s_link",), o.stuck, "stuck"),
+        "phi": variable(("s_helix",), o.phi, "phi"),
+        "dphi_ds": variable(("s_helix",), o.dphi_ds, "dphi_ds"),
         "L_z": variable((), o.L_z, "L_z"),
         "F_transmitted": variable((), o.F_transmitted, "F_transmitted"),
-        "face_force": variable(("link",), o.face_force, "face_force"),
+        "face_force": variable(("s_link",), o.face_force, "face_force"),
         "body_force_z": variable((), o.body_force_z, "body_force_z"),
         "axial_balance": variable((), scene.load - o.F_transmitted - float(o.friction_z.sum())
                                   - float(o.face_force.sum()) - o.body_force_z, "axial_balance"),
@@ -94,9 +94,9 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         "wall_time": variable((), wall, "wall_time"),
     }
     coords = {
-        "s": variable(("joint",), o.s, "s"),
-        "s_link": variable(("link",), o.s_link, "s_link"),
-        "s_helix": variable(("helix",), o.s_helix, "s_helix"),
+        "s": variable(("s",), o.s, "s"),
+        "s_link": variable(("s_link",), o.s_link, "s_link"),
+        "s_helix": variable(("s_helix",), o.s_helix, "s_helix"),
     }
     if st.snapshot_times:
         coords["time"] = variable(("time",), np.asarray(st.snapshot_times), "time")

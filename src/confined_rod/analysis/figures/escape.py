@@ -144,7 +144,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     ev = sims[ev_name]
     L, R, EI, load = (float(ev.attrs[k]) for k in ("L", "R", "EI", "load"))
     frames = _frames(ev, L)
-    data = {f"frame_{c}": variable(("frame", "link"), ev[f"snap_{c}"].values[frames], c) for c in "xyz"}
+    data = {f"frame_{c}": variable(("frame", "s_link"), ev[f"snap_{c}"].values[frames], c) for c in "xyz"}
     data["frame_time"] = variable(("frame",), ev["snap_time"].values[frames], "time")
     data["frame_L_z"] = variable(("frame",), ev["snap_L_z"].values[frames], "L_z")
     data["frame_outside_radius"] = variable(("frame",), ev["snap_outside_radius"].values[frames], "outside_radius")
@@ -163,7 +163,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     coords = {"frame": variable(("frame",), np.array(["a", "b", "c"], dtype=object), "frame"),
               "aspect": variable(("aspect",), [float(sims[n].attrs["L"]) / float(sims[n].attrs["R"]) for n in thr],
                                  "aspect"),
-              "s_link": variable(("link",), ev["s_link"].values, "s_link")}
+              "s_link": variable(("s_link",), ev["s_link"].values, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     closed = data["free_span"].values == 0
     ds.attrs.update({"event_load": load, "event_L": L, "event_R": R, "event_escaped": int(ev["escaped"]),

@@ -257,8 +257,8 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     ds["n_class"] = variable(("panel", "state_class_name"),
                              [[int(((cls[i] == k) & (has[i] == 1)).sum()) for k in range(len(ensembles.CLASSES))]
                               for i in range(len(panels))], "n_class")
-    ds["F_abs_min"] = variable(("panel", "joint"), [f.min(axis=0) for f in profiles], "F_abs_min")
-    ds["F_abs_max"] = variable(("panel", "joint"), [f.max(axis=0) for f in profiles], "F_abs_max")
+    ds["F_abs_min"] = variable(("panel", "s"), [f.min(axis=0) for f in profiles], "F_abs_min")
+    ds["F_abs_max"] = variable(("panel", "s"), [f.max(axis=0) for f in profiles], "F_abs_max")
     ds = ds.assign_coords(member=variable(("member",), np.arange(has.shape[1]), "member"),
                           state_class_name=variable(("state_class_name",), np.array(ensembles.CLASSES, dtype=object),
                                                     "state_class_name"))
@@ -348,12 +348,12 @@ def _build(fig_cfg, sims) -> xr.Dataset:
         for k, v in zip(("paper_fit_A", "paper_fit_l0", "paper_fit_c", "has_paper_fit"), vals):
             scal[k].append(v)
 
-    PJ = ("panel", "joint")
+    PJ = ("panel", "s")
     data = {k: variable(PJ, v, k) for k, v in rows.items()}
-    data["region"] = variable(("panel", "link"), np.array(link_rows["region"], dtype=np.int8), "region")
+    data["region"] = variable(("panel", "s_link"), np.array(link_rows["region"], dtype=np.int8), "region")
     data["region"].attrs.update(flag_values=np.arange(len(regions.REGIONS), dtype=np.int8),
                                 flag_meanings=" ".join(regions.REGIONS))
-    data["q_axial"] = variable(("panel", "link"), link_rows["q_axial"], "q_axial")
+    data["q_axial"] = variable(("panel", "s_link"), link_rows["q_axial"], "q_axial")
     for k, v in reg.items():
         data[k] = variable(("panel",), np.int8(v) if k.startswith("has_") else v, k)
     for k in ("has_bulk", "has_fit_bulk"):
@@ -376,8 +376,8 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     })
     data["has_paper_fit"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
     coords = {
-        "s": variable(("joint",), s, "s"),
-        "s_link": variable(("link",), sims[names[0]]["s_link"].values, "s_link"),
+        "s": variable(("s",), s, "s"),
+        "s_link": variable(("s_link",), sims[names[0]]["s_link"].values, "s_link"),
         "panel": xr.Variable(("panel",), np.array(names, dtype=object), attrs=attrs("panel")),
         "param": xr.Variable(("param",), np.array(PARAMS, dtype=object), attrs=attrs("param")),
         "param_": xr.Variable(("param_",), np.array(PARAMS, dtype=object), attrs=attrs("param")),

@@ -98,7 +98,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     drop_F = float(1.0 - np.median(F[last]) / np.median(F[first]))
     claim = bool(0 < drop_w < drop_F)
 
-    H = ("helix",)
+    H = ("s_helix",)
     data = {
         "omega": variable(H, w, "omega"),
         "F_link": variable(H, F, "F_link"),

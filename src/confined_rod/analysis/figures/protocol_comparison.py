@@ -215,7 +215,7 @@ def _add_profiles(ds: xr.Dataset, fig_cfg, groups, sims) -> xr.Dataset:
         reg.append(r)
         F.append(np.abs(np.asarray(d["F_z"].values, dtype=float)))
         tau0.append(b.tau0)
-    PL, PJ = ("profile", "link"), ("profile", "joint")
+    PL, PJ = ("profile", "s_link"), ("profile", "s")
     ds = ds.assign({
         "profile_F_abs": variable(PJ, np.array(F), "F_abs"),
         "profile_torque_friction": variable(PL, np.array(tau_fr), "torque_friction"),
@@ -225,8 +225,8 @@ def _add_profiles(ds: xr.Dataset, fig_cfg, groups, sims) -> xr.Dataset:
         "profile_region": variable(PL, np.array(reg), "region"),
     })
     return ds.assign_coords(profile=scene_coord("profile", shown),
-                            s=variable(("joint",), np.asarray(first[0]["s"].values), "s"),
-                            s_link=variable(("link",), np.asarray(first[0]["s_link"].values), "s_link"))
+                            s=variable(("s",), np.asarray(first[0]["s"].values), "s"),
+                            s_link=variable(("s_link",), np.asarray(first[0]["s_link"].values), "s_link"))
 
 
 SETTLED = 0.05  # a profile has formed where it stays within 5 % of its final value

@@ -88,15 +88,15 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     final_oop = oop[second[-1]]
     grow = second[np.flatnonzero(oop[second] >= 0.5 * final_oop)[0]] if second.size else 0
     frames = [int(np.flatnonzero(stage == 0)[-1]), int(grow), int(second[-1]) if second.size else 0]
-    data = {f"frame_{c}": variable(("frame", "link"), shown[f"snap_{c}"].values[frames], c) for c in "xyz"}
+    data = {f"frame_{c}": variable(("frame", "s_link"), shown[f"snap_{c}"].values[frames], c) for c in "xyz"}
     data["frame_time"] = variable(("frame",), shown["snap_time"].values[frames], "time")
     data["frame_out_of_plane"] = variable(("frame",), oop[frames], "out_of_plane")
     s_def = count(shown, 0)
     # the defects of the drawn run's final state as a flag on the link nearest each (never an
     # empty variable; the positions are s_link where the flag is 1)
-    near = np.zeros(shown.sizes["link"], dtype=np.int8)
+    near = np.zeros(shown.sizes["s_link"], dtype=np.int8)
     near[[int(np.argmin(np.abs(shown["s_link"].values - sd))) for sd in s_def]] = 1
-    data["defect_at"] = variable(("link",), near, "defect_at")
+    data["defect_at"] = variable(("s_link",), near, "defect_at")
     states = list(shown["state"].values)
     n_def = np.array([[count(sims[n], i).size for i in range(len(states))] for n in names], dtype=np.int32)
     data["n_defects"] = variable(("scene", "state"), n_def, "n_defects")
@@ -108,7 +108,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     coords = {"frame": variable(("frame",), np.array(["a", "b", "c"], dtype=object), "frame"),
               "scene": scene_coord("scene", names),
               "state": variable(("state",), np.array(states, dtype=object), "state"),
-              "s_link": variable(("link",), shown["s_link"].values, "s_link")}
+              "s_link": variable(("s_link",), shown["s_link"].values, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     with_def = int((n_def[:, 0] > 0).sum())
     ds.attrs.update({
