@@ -29,6 +29,7 @@ include: "workflow/rules/simulate.smk"
 include: "workflow/rules/postprocess.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/paper.smk"
+include: "workflow/rules/views.smk"
 
 
 report: "workflow/report/workflow.rst"
@@ -47,3 +48,4 @@ rule all:
         ALL_TARGETS["figures"],
         ALL_TARGETS["checks"],
         ALL_TARGETS["paper"],
+        ALL_TARGETS["views"],

@@ -115,7 +115,7 @@ def test_protocol_comparison_stores_the_torque_and_the_formation():
     ds = pc.build({"profiles": ["straight", "helix"]}, sims)
     check_finite(ds, "test")
     assert list(ds.profile.values) == ["straight", "helix"]
-    assert ds.attrs["formation_variant"] == "straight" and ds.sizes["time"] >= 5
+    assert ds.attrs["formation_variant"] == "straight" and ds.sizes["t"] >= 5
     np.testing.assert_allclose(ds.formation_F_abs.values[:, 0], 0.25)
     assert np.all(ds.torque_closure_member.values < 1e-3)
     # the profile drawn is the first seed's, from the loaded end

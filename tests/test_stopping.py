@@ -84,14 +84,14 @@ def test_planar_then_3d_leaves_the_plane_and_records_both_stages():
 
 def test_snapshots_only_when_asked():
     plain = simulate(Scene(L=6.0, load=0.5, t_max=20.0), progress=False)
-    assert "time" not in plain.dims and "snap_x" not in plain
+    assert "t" not in plain.dims and "snap_x" not in plain
     snap = simulate(Scene(L=6.0, load=0.5, t_max=20.0, snapshot_interval=2.0), progress=False)
-    times = snap.time.values
+    times = snap.t.values
     # one snapshot every 2 time units (to within a step), plus the final state
     n_regular = int(np.floor(float(snap.t_final) / 2.0)) + 1
-    assert snap.sizes["time"] in (n_regular, n_regular + 1)
+    assert snap.sizes["t"] in (n_regular, n_regular + 1)
     np.testing.assert_allclose(times[:n_regular], 2.0 * np.arange(n_regular), atol=2 * snap.attrs["dt"])
-    np.testing.assert_allclose(snap.snap_x.isel(time=-1), snap.x)
+    np.testing.assert_allclose(snap.snap_x.isel(t=-1), snap.x)
 
 
 def test_progress_is_reported_on_stderr(monkeypatch, capsys):
@@ -127,13 +127,13 @@ def test_snapshots_at_growing_times_store_the_force_along_the_rod():
     evaluated on the stored state (the loaded end carries the load at every time)."""
     sc = Scene(L=10.0, load=0.5, k_fr=0.8, t_max=200.0, snapshot_interval=5.0, snapshot_growth=2.0)
     d = simulate(sc, progress=False)
-    times = d.time.values
+    times = d.t.values
     n = int(np.floor(np.log2(float(d.t_final) / 5.0))) + 1      # 5, 10, 20, ... below t_final
     np.testing.assert_allclose(times[1:n + 1], 5.0 * 2.0 ** np.arange(n), atol=2 * d.attrs["dt"])
     assert times[0] == 0.0 and times[-1] == pytest.approx(float(d.t_final))
     np.testing.assert_allclose(d.snap_F_z.values[:, 0], -0.5)
-    np.testing.assert_allclose(d.snap_F_z.isel(time=-1), d.F_z, atol=1e-12)
-    np.testing.assert_allclose(d.snap_friction_phi.isel(time=-1), d.friction_phi, atol=1e-12)
+    np.testing.assert_allclose(d.snap_F_z.isel(t=-1), d.F_z, atol=1e-12)
+    np.testing.assert_allclose(d.snap_friction_phi.isel(t=-1), d.friction_phi, atol=1e-12)
     with pytest.raises(SceneError, match="snapshot_growth"):
         Scene(L=10.0, snapshot_interval=5.0, snapshot_growth=0.5)
 

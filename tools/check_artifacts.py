@@ -5,7 +5,8 @@
 
 netCDF files must open with xarray, carry CF attributes, and have no NaN or inf in
 any floating-point variable; figures must be non-empty images (PNG decodes to a
-non-blank picture, PDF has a PDF header and pages).  Exit status 1 lists every failure.
+non-blank picture, PDF has a PDF header and pages); the 3-D views hold one tube per
+simulation and their page plotly.js and the views.  Exit status 1 lists every failure.
 """
 from __future__ import annotations
 
@@ -38,7 +39,7 @@ def check_netcdf(path: Path) -> list[str]:
                 bad = int(np.size(var.values) - np.count_nonzero(np.isfinite(var.values)))
                 if bad:
                     errors.append(f"{path}: variable {name!r} has {bad} NaN/inf values")
-            if var.size == 0 and name in ds.data_vars and var.dims and var.dims[0] not in ("s_helix", "time"):
+            if var.size == 0 and name in ds.data_vars and var.dims and var.dims[0] not in ("s_helix", "t"):
                 errors.append(f"{path}: variable {name!r} is empty")
         if "converged" in ds and int(np.min(ds["converged"].values)) == 0:
             print(f"note: {path}: not every run converged", file=sys.stderr)
@@ -97,6 +98,38 @@ def check_verdict(path: Path) -> list[str]:
     return []
 
 
+def check_views(path: Path, config: dict | None = None) -> list[str]:
+    """A figure's 3-D views (rule views): one entry per simulation of the figure, each a plotly
+    figure whose first trace is the rod's tube; no NaN (JSON would spell it NaN)."""
+    import json
+    import re
+
+    text = path.read_text()
+    if re.search(r"[:,\[]\s*-?(NaN|Infinity)\b", text):
+        return [f"{path}: contains NaN or Infinity"]
+    data = json.loads(text)
+    config = config or {}
+    figure = data.get("figure")
+    want = len(pipeline.figure_sims(config, figure)) if figure in config.get("figures", {}) else None
+    entries = data.get("entries", [])
+    errors = []
+    if not entries or (want is not None and len(entries) != want):
+        errors.append(f"{path}: {len(entries)} views for {want} simulations of {figure}")
+    for e in entries:
+        traces = e.get("figure", {}).get("data", [])
+        if not traces or traces[0].get("type") != "mesh3d":
+            errors.append(f"{path}: view {e.get('key')!r} has no tube")
+    return errors
+
+
+def check_views_page(path: Path) -> list[str]:
+    """The page of every figure's views (rule views_page): plotly.js and the views inside, compressed."""
+    text = path.read_text()
+    if path.stat().st_size < 1_000_000 or 'id="plotly-gz"' not in text or 'id="views-gz"' not in text:
+        return [f"{path}: not a views page with plotly.js and the views ({path.stat().st_size} bytes)"]
+    return []
+
+
 def figure_outputs(config: dict, names: list[str]) -> dict[str, list[str]]:
     """The artifacts of the named figures only (a partial build, such as CI's publication part)."""
     unknown = [f for f in names if f not in pipeline.figures(config)]
@@ -130,7 +163,8 @@ def main(argv=None) -> int:
                 continue
             try:
                 check = {".nc": check_netcdf, ".png": check_png, ".pdf": check_pdf, ".txt": check_verdict,
-                         ".csv": check_csv}[p.suffix]
+                         ".csv": check_csv, ".json": lambda p: check_views(p, config),
+                         ".html": check_views_page}[p.suffix]
                 errors += check(p)
             except Exception as e:  # noqa: BLE001 - any failure to open is a failed check
                 errors.append(f"{p}: cannot be read: {type(e).__name__}: {e}")
@@ -143,6 +177,8 @@ def main(argv=None) -> int:
             for f in pipeline.figures(config):
                 if f"{f}.png" not in html:
                     errors.append(f"{rp}: figure {f} not in the report")
+            if pipeline.view_outputs(config) and Path(layout.VIEWS_PAGE).name not in html:
+                errors.append(f"{rp}: the 3-D views ({layout.VIEWS_PAGE}) are not in the report")
             if html.count("Parameters:") < len(pipeline.figures(config)):
                 errors.append(f"{rp}: a figure caption is missing")
     for e in errors:

@@ -25,6 +25,12 @@ def pick(results: Path) -> dict[str, Path]:
         files = sorted(layout.under(results, folder).glob("*/*.nc"))
         if files:
             chosen[kind] = files[0]
+        if kind == "simulation":          # and one that stores shapes at several times (a time axis t)
+            for f in files:
+                with xr.open_dataset(f) as ds:
+                    if "t" in ds.dims:
+                        chosen["simulation with snapshots"] = f
+                        break
     for f in sorted(layout.under(results, layout.DATASETS).glob("*.nc")):
         with xr.open_dataset(f) as ds:
             chosen.setdefault(f"figure kind {ds.attrs.get('kind', '?')}", f)

@@ -11,8 +11,10 @@ build with SIGKILL, then recovers as the README says:
     snakemake --unlock --configfile CONFIG     # only if the rerun reports a stale lock
     snakemake --cores 2 --configfile CONFIG    # the profile sets --rerun-incomplete
 
-and compares every dataset (results/sims, probes, paths, datasets) and every check
-verdict with the reference: all data variables bitwise equal except run times
+Both builds stop at the datasets and the convergence checks (``--until postprocess
+convergence_check``): the figures, the claims and the manuscript are pure functions of those,
+and leaving them out halves the test.  It compares every dataset (results/sims, probes,
+paths, datasets) and every check verdict with the reference: all data variables bitwise equal except run times
 (variables named wall_time), all attributes equal except run times (names
 containing wall_time), ``history`` (a timestamp) and the git commits (``git_commit``,
 ``scene_git_commits``, ``boundary_git_commit``: the copy is not a git checkout).  No temporary
@@ -47,14 +49,19 @@ def tracked_copy(dest: Path) -> None:
             shutil.copy2(ROOT / rel, dest / rel)
 
 
-def finished_jobs(work: Path) -> int:
-    bench = layout.under(work / layout.RESULTS, layout.BENCHMARKS)
-    return sum(1 for _ in bench.rglob("*.tsv")) if bench.exists() else 0
+#: the rules the interrupted build runs (and the last ones it runs: --until)
+UNTIL = ("postprocess", "convergence_check")
+RULES = ("batch", "simulate", "probe", "load_path") + UNTIL
+
+
+def finished_jobs(results: Path) -> int:
+    bench = layout.under(results, layout.BENCHMARKS)
+    return sum(1 for r in RULES for _ in (bench / r).rglob("*.tsv")) if bench.exists() else 0
 
 
 def snakemake(work: Path, config: str, *extra: str) -> subprocess.CompletedProcess:
-    return subprocess.run([SNAKEMAKE, "--cores", "2", "--configfile", config, *extra], cwd=work,
-                          capture_output=True, text=True)
+    return subprocess.run([SNAKEMAKE, "--cores", "2", "--configfile", config, "--until", *UNTIL, *extra],
+                          cwd=work, capture_output=True, text=True)
 
 
 def main(argv=None) -> int:
@@ -69,19 +76,19 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory(prefix="kill_resume_") as tmp:
         work = Path(tmp)
         tracked_copy(work)
-        planned = len(list(layout.under(reference, layout.BENCHMARKS).rglob("*.tsv")))
+        planned = finished_jobs(reference)
         kill_after = rng.randrange(1, max(2, planned - 2))
         summary["jobs_in_build"], summary["kill_after_jobs"] = planned, kill_after
         t0 = time.perf_counter()
-        proc = subprocess.Popen([SNAKEMAKE, "--cores", "2", "--configfile", args.config], cwd=work,
+        proc = subprocess.Popen([SNAKEMAKE, "--cores", "2", "--configfile", args.config, "--until", *UNTIL], cwd=work,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-        while proc.poll() is None and finished_jobs(work) < kill_after:
+        while proc.poll() is None and finished_jobs(work / layout.RESULTS) < kill_after:
             time.sleep(0.05)
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
         proc.wait()
         summary["killed_after_s"] = round(time.perf_counter() - t0, 1)
-        summary["jobs_done_when_killed"] = finished_jobs(work)
+        summary["jobs_done_when_killed"] = finished_jobs(work / layout.RESULTS)
         rerun = snakemake(work, args.config)
         summary["rerun_without_unlock"] = "ok" if rerun.returncode == 0 else (
             "LockException" if "LockException" in rerun.stdout + rerun.stderr else "failed")

@@ -25,3 +25,21 @@ if ! command -v latexmk >/dev/null 2>&1 || ! command -v pdftotext >/dev/null 2>&
              "install as root: apt-get install $TEX_PACKAGES" >&2
     fi
 fi
+
+# A headless browser for the test that opens the 3-D view of a rod (tests/test_view.py), from the
+# Debian package. Only as root and only if missing; without it that test is skipped (CI sets
+# CI_REQUIRE_BROWSER=1, and then it fails instead).
+BROWSER_PACKAGES="chromium fonts-liberation fonts-dejavu-core"
+if ! command -v chromium >/dev/null 2>&1; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+        echo "setup: installing chromium for the browser test of the 3-D view ($BROWSER_PACKAGES)"
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $BROWSER_PACKAGES >/dev/null \
+            || { apt-get update -qq >/dev/null \
+                 && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $BROWSER_PACKAGES \
+                    >/dev/null; } \
+            || echo "setup: note: installing chromium failed; the browser test of the 3-D view will not run" >&2
+    else
+        echo "setup: note: chromium is missing, so the browser test of the 3-D view is skipped;" \
+             "install as root: apt-get install $BROWSER_PACKAGES" >&2
+    fi
+fi

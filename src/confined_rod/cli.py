@@ -50,7 +50,19 @@ def main(argv: list[str] | None = None) -> int:
                                                 "and every config key, generated from the config schema")
     p_docs.add_argument("-o", "--output", type=Path, help="write it to this file (config/README.md)")
     p_docs.add_argument("--check", type=Path, metavar="FILE", help="exit 1 if FILE differs from it")
+    p_view = sub.add_parser("view", help="write a rod you can turn in a browser: one self-contained HTML page "
+                                         "(plotly; pip install 'confined_rod[view]') of scene datasets")
+    p_view.add_argument("dataset", type=Path, nargs="+", help="scene dataset(s): a simulation of a figure, or a "
+                                                              "load path (several: one page with a selector)")
+    p_view.add_argument("-o", "--output", type=Path, required=True, help="output HTML file")
+    p_view.add_argument("--color", default="F_z", metavar="VAR",
+                        help="colour the rod by F_z (|F_z|, the default), wall_force, stuck or friction_angle")
     args = parser.parse_args(argv)
+
+    if args.command == "view":                  # reads datasets only: never imports the simulator
+        from .analysis.view import main as view
+
+        return view(args.dataset, args.output, args.color)
 
     if args.command in ("schema", "config-docs"):
         if args.command == "schema":

@@ -12,6 +12,8 @@ tools use, relative to the checkout. ``results/`` is generated and git-ignored:
       datasets/<figure>.nc            what a figure plots (rule postprocess)
       checks/<figure>.txt             a convergence verdict (rule convergence_check)
       figures/<figure>.{pdf,png}      the figure (rule figure)
+      views/<figure>.json             the 3-D views of a figure's simulations (rule views)
+      views/rod_views.html            all of them in one page, the report's (rule views_page)
       claims.csv, claims.nc           the verdicts on the paper's claims (rule claims)
       paper/                          the manuscript's generated parts and PDF
       logs/<rule>/..., benchmarks/<rule>/...   one log and one benchmark per job
@@ -29,6 +31,9 @@ PROBES = RESULTS / "probes"
 PATHS = RESULTS / "paths"
 DATASETS = RESULTS / "datasets"
 CHECKS = RESULTS / "checks"
+VIEWS = RESULTS / "views"
+#: every simulation's 3-D view in one page (plotly.js once), the report's entry (rule views_page)
+VIEWS_PAGE = str(VIEWS / "rod_views.html")
 PAPER = RESULTS / "paper"
 LOGS = RESULTS / "logs"
 BENCHMARKS = RESULTS / "benchmarks"
@@ -61,6 +66,11 @@ def dataset_path(figure: str) -> str:
 
 def figure_paths(figure: str) -> tuple[str, str]:
     return str(RESULTS / "figures" / f"{figure}.pdf"), str(RESULTS / "figures" / f"{figure}.png")
+
+
+def view_path(figure: str) -> str:
+    """The 3-D views of a figure's simulations (plotly figures as JSON; rule views)."""
+    return str(VIEWS / f"{figure}.json")
 
 
 def probe_path(figure: str, scene: str) -> str:

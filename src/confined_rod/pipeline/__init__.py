@@ -61,6 +61,8 @@ from .targets import (
                       paper_outputs,
                       path_spec,
                       stale_inputs,
+                      view_figures,
+                      view_outputs,
                       wanted_scene,
 )
 
@@ -71,4 +73,5 @@ __all__ = [
     "context", "convergence_figures", "costly_scenes", "expand", "figures", "kinds", "publication_value",
     "read_config", "read_figures", "scene_params", "scenes", "validate", "claim_sims", "claim_wanted",
     "expected_outputs", "figure_sims", "figure_wanted", "paper_outputs", "path_spec", "stale_inputs", "wanted_scene",
+    "view_figures", "view_outputs",
 ]

@@ -86,6 +86,8 @@ CLAIMS = PACKAGE / "claims"
 STYLE = ANALYSIS / "plotting.py"
 #: the manuscript generator: the manuscript's generated parts only (the claims never import it)
 MANUSCRIPT = CLAIMS / "manuscript.py"
+#: the rods in 3-D (confined-rod view and the rules views, views_page)
+VIEW = ANALYSIS / "view.py"
 
 
 def _part(folder: Path) -> list[Path]:
@@ -116,3 +118,8 @@ def claims_code() -> list[str]:
 def paper_code() -> list[str]:
     """The manuscript's generated parts: every module of claims/ and what they import."""
     return code_closure(*_part(CLAIMS), skip=(STYLE,))
+
+
+def view_code() -> list[str]:
+    """The 3-D views of a figure's simulations: the view module and what it imports."""
+    return code_closure(VIEW, skip=(STYLE,))

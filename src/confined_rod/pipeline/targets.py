@@ -95,7 +95,20 @@ def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
         out["figures"] += list(layout.figure_paths(f))
     out["checks"] = [layout.check_path(f) for f in convergence_figures(config)]
     out["paper"] = paper_outputs(config)
+    out["views"] = view_outputs(config)
     return out
+
+
+def view_figures(config: dict[str, Any]) -> list[str]:
+    """The figures whose scene files are simulations (not probes or load paths): each gets the 3-D
+    views of its simulations (rule views)."""
+    return [f for f in figures(config) if kinds.source(config["figures"][f]["kind"]) == "simulate"]
+
+
+def view_outputs(config: dict[str, Any]) -> list[str]:
+    """Each such figure's views and the page of all of them (the report's), if there is any."""
+    views = [layout.view_path(f) for f in view_figures(config)]
+    return views + [layout.VIEWS_PAGE] if views else []
 
 
 def paper_outputs(config: dict[str, Any]) -> list[str]:

@@ -294,7 +294,7 @@ def transition(scene: Scene, reduced: Iterable[float] = ()) -> xr.Dataset:
         data[k] = variable(("state",), per_state[k], k)
     data["converged"] = variable(("state",), np.array(per_state["converged"], dtype=np.int8), "converged")
     data["state_load"] = variable(("state",), per_state["state_load"], "load")
-    coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "time"),
+    coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "t"),
               "state": variable(("state",), np.array([s[0] for s in states], dtype=object), "state"),
               "s_link": variable(("s_link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
     ds = xr.Dataset(data, coords=coords)
@@ -366,7 +366,7 @@ def event(scene: Scene) -> xr.Dataset:
                                            "outside_radius")
     data["converged"] = variable((), np.int8(st.converged), "converged")
     data["escaped"] = variable((), np.int8(st.escaped), "escaped")
-    coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "time"),
+    coords = {"snap_time": variable(("snapshot",), [s[0] for s in snaps], "t"),
               "s_link": variable(("s_link",), (np.arange(scene.N) + 0.5) * scene.l0, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     extra = {"snap_growth": SNAP_GROWTH, "free_span": scene.free_span(), "follow_escape": FOLLOW_ESCAPE,

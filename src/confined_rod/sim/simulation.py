@@ -23,11 +23,11 @@ def _snapshot_variables(scene: Scene, st) -> dict[str, xr.Variable]:
     and friction forces on the links, evaluated on the stored state as at the end of a run
     (links from the loaded end)."""
     snaps = [obs.compute(scene, r, t) for r, t in zip(st.snapshot_r, st.snapshot_t)]
-    data = {f"snap_{c}": variable(("time", "s_link"), np.array([o.r[:, i] for o in snaps]), f"snap_{c}")
+    data = {f"snap_{c}": variable(("t", "s_link"), np.array([o.r[:, i] for o in snaps]), f"snap_{c}")
             for i, c in enumerate("xyz")}
-    data["snap_F_z"] = variable(("time", "s"), np.array([o.F_z for o in snaps]), "snap_F_z")
+    data["snap_F_z"] = variable(("t", "s"), np.array([o.F_z for o in snaps]), "snap_F_z")
     for key in ("wall_force", "friction_z", "friction_phi"):
-        data[f"snap_{key}"] = variable(("time", "s_link"), np.array([getattr(o, key) for o in snaps]), f"snap_{key}")
+        data[f"snap_{key}"] = variable(("t", "s_link"), np.array([getattr(o, key) for o in snaps]), f"snap_{key}")
     return data
 
 
@@ -99,7 +99,7 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
         "s_helix": variable(("s_helix",), o.s_helix, "s_helix"),
     }
     if st.snapshot_times:
-        coords["time"] = variable(("time",), np.asarray(st.snapshot_times), "time")
+        coords["t"] = variable(("t",), np.asarray(st.snapshot_times), "t")
         data.update(_snapshot_variables(scene, st))
     for flag in ("contact", "stuck", "converged", "escaped"):
         data[flag].attrs["flag_values"] = np.array([0, 1], dtype=np.int8)

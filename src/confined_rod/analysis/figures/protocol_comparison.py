@@ -250,12 +250,12 @@ def _add_formation(ds: xr.Dataset, groups, sims) -> xr.Dataset:
         d = sims[members[0]]
         if "snap_F_z" in d:
             F_abs = np.abs(np.asarray(d["snap_F_z"].values, dtype=float))
-            ds = ds.assign({"formation_F_abs": variable(("time", "formation_joint"), F_abs, "F_abs")})
-            ds = ds.assign_coords(time=variable(("time",), np.asarray(d["time"].values, dtype=float), "time"),
+            ds = ds.assign({"formation_F_abs": variable(("t", "formation_joint"), F_abs, "F_abs")})
+            ds = ds.assign_coords(t=variable(("t",), np.asarray(d["t"].values, dtype=float), "t"),
                                   formation_s=variable(("formation_joint",), np.asarray(d["s"].values), "s"))
             ds.attrs["formation_variant"] = base
             ds.attrs["formation_seed"] = int(d.attrs["seed"])
-            t, F = ds["time"].values, ds["formation_F_abs"].values
+            t, F = ds["t"].values, ds["formation_F_abs"].values
             s = ds["formation_s"].values
             for where, sel in (("quarter", s <= 0.25 * s[-1]), ("end", s >= s[-1])):
                 ds.attrs[f"formation_settled_{where}"] = settle_time(t, F[:, sel], SETTLED)
@@ -413,7 +413,7 @@ def _plot_profiles(ds: xr.Dataset, ax_f, ax_t) -> None:
 
 
 def _plot_formation(ds: xr.Dataset, ax) -> None:
-    t = ds["time"].values
+    t = ds["t"].values
     F = ds["formation_F_abs"].values
     s = ds["formation_s"].values
     keep = [k for k in range(t.size) if t[k] > 0]

@@ -89,7 +89,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     grow = second[np.flatnonzero(oop[second] >= 0.5 * final_oop)[0]] if second.size else 0
     frames = [int(np.flatnonzero(stage == 0)[-1]), int(grow), int(second[-1]) if second.size else 0]
     data = {f"frame_{c}": variable(("frame", "s_link"), shown[f"snap_{c}"].values[frames], c) for c in "xyz"}
-    data["frame_time"] = variable(("frame",), shown["snap_time"].values[frames], "time")
+    data["frame_time"] = variable(("frame",), shown["snap_time"].values[frames], "t")
     data["frame_out_of_plane"] = variable(("frame",), oop[frames], "out_of_plane")
     s_def = count(shown, 0)
     # the defects of the drawn run's final state as a flag on the link nearest each (never an
