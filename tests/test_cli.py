@@ -22,8 +22,8 @@ def test_version(capsys):
 
 
 def test_set_reads_yaml_values_and_names_a_bad_key():
-    assert _overrides(["L=40", "k_fr=0.3", "body_force=[0.1, 0, 0]", "ends=guided"]) == {
-        "L": 40, "k_fr": 0.3, "body_force": [0.1, 0, 0], "ends": "guided"}
+    assert _overrides(["L=40", "k_fr=0.3", "body_force=[0.1, 0, 0]", "ends=guided", "R=1e-9"]) == {
+        "L": 40, "k_fr": 0.3, "body_force": [0.1, 0, 0], "ends": "guided", "R": 1e-9}   # 1e-9: YAML 1.2
     with pytest.raises(SceneError, match="unknown key 'Lx'"):
         _overrides(["Lx=40"])
     with pytest.raises(SceneError, match="expected KEY=VALUE"):

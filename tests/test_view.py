@@ -32,9 +32,10 @@ def helix(s: np.ndarray, rho: float = RHO, pitch: float = PITCH, top: float = L 
 
 
 def helix_dataset(snapshots: int = 0, final_is_last_snapshot: bool = True, decay: float = 8.0,
-                  R: float = 1.0) -> xr.Dataset:
-    """A scene dataset as the simulator writes it (dims joint, link, time), in units of a scene
-    with cylinder radius R (EI = 1)."""
+                  R: float = 1.0, legacy: bool = False) -> xr.Dataset:
+    """A scene dataset as the simulator writes it (dimension coordinates s, s_link, t; ``legacy``:
+    dims joint, link, time, as files written before the CF units), in units of a scene with
+    cylinder radius R (EI = 1)."""
     s = np.linspace(0.0, L, N + 1)
     s_link = 0.5 * (s[1:] + s[:-1])
     pts, tan = helix(s_link)
@@ -73,6 +74,10 @@ def helix_dataset(snapshots: int = 0, final_is_last_snapshot: bool = True, decay
                      "seed": 3, "solver": "implicit", "ends": "free", "pore_length": L * R, "name": "test/helix",
                      "title": "Confined elastic rod 'test/helix'", "status": "converged",
                      "status_reason": "equilibrium: a constructed helix"})
+    if not legacy:
+        ds = ds.swap_dims({"joint": "s", "link": "s_link"})
+        if snapshots:
+            ds = ds.rename({"time": "t"})
     return ds
 
 
@@ -186,6 +191,22 @@ def test_a_force_spanning_decades_is_shown_on_log_scales(plotly):
     assert "log" in fig.data[0].colorbar.title.text and "10<sup>" in "".join(fig.data[0].colorbar.ticktext)
     rod = view.rod_from_dataset(helix_dataset(decay=100.0))
     assert view.figure(rod).layout.yaxis.type == "linear"
+
+
+def test_a_constant_force_is_one_colour_not_a_rainbow_of_round_off(plotly):
+    ds = helix_dataset(decay=1e9)
+    ds["F_z"] = ds.F_z + 1e-7 * np.sin(np.arange(N + 1))                    # frictionless: |F_z| = load
+    c = view.coloring(view.rod_from_dataset(ds), "F_z")
+    assert c.cmax - c.cmin >= 0.03 * LOAD and c.cmin < LOAD < c.cmax
+
+
+def test_files_written_before_the_cf_units_are_read_alike():
+    new, old = (view.rod_from_dataset(helix_dataset(snapshots=3, legacy=v)) for v in (False, True))
+    assert [s.label for s in new.shapes] == [s.label for s in old.shapes]
+    for a, b in zip(new.shapes, old.shapes):
+        np.testing.assert_array_equal(a.centres, b.centres)
+        np.testing.assert_array_equal(a.force, b.force)
+    np.testing.assert_array_equal(new.s_joint, old.s_joint)
 
 
 def test_other_units_are_rescaled_to_R_and_EI():
@@ -333,29 +354,45 @@ def _console_problems(log: str) -> list[str]:
 
 
 def test_the_pages_render_in_a_browser(plotly, tmp_path):
-    """The command's page (plotly.js inline) and the report's (compressed, a scene selector):
-    rendered without a console error, the rod visible in its colour (all links stuck: dark red)."""
+    """The command's page (plotly.js inline) and a page of the pipeline's views folder (loading the
+    folder's plotly.min.js): rendered without a console error, the rod visible in its colour (all
+    links stuck: dark red) in the 3-D part of the page."""
     ds = helix_dataset(snapshots=3)
     ds["stuck"][:] = 1
-    rod = view.rod_from_dataset(ds)
-    one = [view.entry(rod, "stuck", key="test/helix", group="test")]
-    two = one + [view.entry(view.rod_from_dataset(helix_dataset()), "stuck", key="test/other", group="test")]
-    pages = [tmp_path / "inline.html", tmp_path / "gzip.html"]
-    pages[0].write_text(view.page_html(one, "test", plotlyjs="inline"))
-    pages[1].write_text(view.page_html(two, "test", plotlyjs="gzip"))
+    src = tmp_path / "helix.nc"
+    ds.to_netcdf(src)
+    page = tmp_path / "rod.html"
+    assert main(["view", str(src), "-o", str(page), "--color", "stuck"]) == 0
+    folder = view.write_views(tmp_path / "views", [("test", "a test figure", [("helix", str(src))])], color="stuck")
+    pages = [page, folder / view.page_name("test", "helix")]
     from PIL import Image
 
-    for page, (shot, log) in zip(pages, _render(pages, tmp_path)):
+    for k, (page, (shot, log)) in enumerate(zip(pages, _render(pages, tmp_path))):
         assert not _console_problems(log), (page.name, _console_problems(log))
-        assert "[view rendered] test/helix" in log, (page.name, log[-3000:])
+        assert "[view rendered] " in log, (page.name, log[-3000:])
         img = np.asarray(Image.open(shot).convert("RGB")).astype(int)
         if os.environ.get("VIEW_SHOT"):        # keep a copy to look at
-            shutil.copy(shot, Path(os.environ["VIEW_SHOT"]).with_suffix(f".{page.stem}.png"))
+            shutil.copy(shot, Path(os.environ["VIEW_SHOT"]).with_suffix(f".{k}.png"))
         background = np.all(img > 245, axis=2)
-        assert (~background).mean() > 0.03, f"{page.name}: the page is blank"
+        assert (~background).mean() > 0.03, f"{page}: the page is blank"
         r, g, b = img[..., 0], img[..., 1], img[..., 2]
         rod_red = (r > 70) & (r > 2.2 * g) & (r > 2.0 * b)        # #b2182b under the lights
-        assert rod_red.sum() > 400, f"{page.name}: only {rod_red.sum()} pixels of the rod's colour"
-        # the rod is in the left (3-D) part of the page, not in the profile
+        assert rod_red.sum() > 400, f"{page}: only {rod_red.sum()} pixels of the rod's colour"
         cols = np.nonzero(rod_red.any(axis=0))[0]
-        assert cols.max() < 0.5 * img.shape[1], page.name
+        assert cols.max() < 0.5 * img.shape[1], page                # in the 3-D part, not the profile
+
+
+def test_the_views_folder_lists_every_simulation_and_shares_one_plotly(plotly, tmp_path):
+    paths = []
+    for k, decay in enumerate((8.0, 30.0)):
+        p = tmp_path / f"s{k}.nc"
+        helix_dataset(decay=decay).to_netcdf(p)
+        paths.append(str(p))
+    folder = view.write_views(tmp_path / "views", [("figA", "Figure A", [("a", paths[0]), ("b", paths[1])]),
+                                                   ("figB", "Figure B", [("c", paths[0])])])
+    files = sorted(str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file())
+    assert files == ["figA/a.html", "figA/b.html", "figB/c.html", "index.html", "plotly.min.js"]
+    index = (folder / "index.html").read_text()
+    assert all(f'href="{n}"' in index for n in ("figA/a.html", "figA/b.html", "figB/c.html"))
+    page = (folder / "figA" / "b.html").read_text()
+    assert '<script src="../plotly.min.js">' in page and len(page) < 500_000     # plotly.js not inside

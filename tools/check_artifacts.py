@@ -1,12 +1,12 @@
 """Check every artifact a pipeline config promises: it exists, opens, and holds no NaN.
 
-    python tools/check_artifacts.py config/ci.yaml [--report results/report.html]
+    python tools/check_artifacts.py config/ci.yaml [--report results/report.html] [--report results/report.zip]
     python tools/check_artifacts.py config/config.yaml --figure fig6_FonL   # one figure's artifacts
 
 netCDF files must open with xarray, carry CF attributes, and have no NaN or inf in
 any floating-point variable; figures must be non-empty images (PNG decodes to a
-non-blank picture, PDF has a PDF header and pages); the 3-D views hold one tube per
-simulation and their page plotly.js and the views.  Exit status 1 lists every failure.
+non-blank picture, PDF has a PDF header and pages); the 3-D views folder holds its index,
+its plotly.js and one page per simulation.  Exit status 1 lists every failure.
 """
 from __future__ import annotations
 
@@ -98,36 +98,18 @@ def check_verdict(path: Path) -> list[str]:
     return []
 
 
-def check_views(path: Path, config: dict | None = None) -> list[str]:
-    """A figure's 3-D views (rule views): one entry per simulation of the figure, each a plotly
-    figure whose first trace is the rod's tube; no NaN (JSON would spell it NaN)."""
-    import json
-    import re
-
-    text = path.read_text()
-    if re.search(r"[:,\[]\s*-?(NaN|Infinity)\b", text):
-        return [f"{path}: contains NaN or Infinity"]
-    data = json.loads(text)
-    config = config or {}
-    figure = data.get("figure")
-    want = len(pipeline.figure_sims(config, figure)) if figure in config.get("figures", {}) else None
-    entries = data.get("entries", [])
+def check_views(path: Path, config: dict) -> list[str]:
+    """The 3-D views (rule views): the folder holds its index, the plotly.js its pages share and one
+    non-empty page per simulation of the figures; each page loads that plotly.js and holds a tube."""
     errors = []
-    if not entries or (want is not None and len(entries) != want):
-        errors.append(f"{path}: {len(entries)} views for {want} simulations of {figure}")
-    for e in entries:
-        traces = e.get("figure", {}).get("data", [])
-        if not traces or traces[0].get("type") != "mesh3d":
-            errors.append(f"{path}: view {e.get('key')!r} has no tube")
+    for f in map(Path, pipeline.view_pages(config)):
+        if not f.is_file() or f.stat().st_size == 0:
+            errors.append(f"{f}: missing or empty")
+        elif f.suffix == ".html" and f.name != Path(layout.VIEWS_INDEX).name:
+            text = f.read_text()
+            if f'src="../{layout.VIEWS_PLOTLY}"' not in text or '"type":"mesh3d"' not in text:
+                errors.append(f"{f}: not a view page (no plotly.js or no tube)")
     return errors
-
-
-def check_views_page(path: Path) -> list[str]:
-    """The page of every figure's views (rule views_page): plotly.js and the views inside, compressed."""
-    text = path.read_text()
-    if path.stat().st_size < 1_000_000 or 'id="plotly-gz"' not in text or 'id="views-gz"' not in text:
-        return [f"{path}: not a views page with plotly.js and the views ({path.stat().st_size} bytes)"]
-    return []
 
 
 def figure_outputs(config: dict, names: list[str]) -> dict[str, list[str]]:
@@ -145,7 +127,9 @@ def figure_outputs(config: dict, names: list[str]) -> dict[str, list[str]]:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("config")
-    ap.add_argument("--report", help="also check this HTML report (exists, mentions every figure)")
+    ap.add_argument("--report", action="append", default=[],
+                    help="also check this report, HTML or zip (exists, mentions every figure; a zip report carries "
+                         "every 3-D view); repeatable")
     ap.add_argument("--figure", action="append", default=[],
                     help="check only this figure's simulations, dataset, images and check (repeatable)")
     args = ap.parse_args(argv)
@@ -158,32 +142,48 @@ def main(argv=None) -> int:
     for kind, paths in expected.items():
         for p in map(Path, paths):
             n += 1
+            if kind == "views":
+                errors += check_views(p, config)
+                continue
             if not p.is_file() or p.stat().st_size == 0:
                 errors.append(f"{p}: missing or empty")
                 continue
             try:
                 check = {".nc": check_netcdf, ".png": check_png, ".pdf": check_pdf, ".txt": check_verdict,
-                         ".csv": check_csv, ".json": lambda p: check_views(p, config),
-                         ".html": check_views_page}[p.suffix]
+                         ".csv": check_csv}[p.suffix]
                 errors += check(p)
             except Exception as e:  # noqa: BLE001 - any failure to open is a failed check
                 errors.append(f"{p}: cannot be read: {type(e).__name__}: {e}")
-    if args.report:
-        rp = Path(args.report)
+    for report in args.report:
+        rp = Path(report)
         if not rp.is_file():
             errors.append(f"{rp}: report missing")
+            continue
+        members: list[str] = []
+        if rp.suffix == ".zip":                         # a zip report: its page and the files it carries
+            import zipfile
+
+            with zipfile.ZipFile(rp) as z:
+                members = z.namelist()
+                page = next((m for m in members if m.endswith("/report.html")), None)
+                html = z.read(page).decode(errors="replace") if page else ""
         else:
             html = rp.read_text(errors="replace")
-            for f in pipeline.figures(config):
-                if f"{f}.png" not in html:
-                    errors.append(f"{rp}: figure {f} not in the report")
-            if pipeline.view_outputs(config) and Path(layout.VIEWS_PAGE).name not in html:
-                errors.append(f"{rp}: the 3-D views ({layout.VIEWS_PAGE}) are not in the report")
-            if html.count("Parameters:") < len(pipeline.figures(config)):
-                errors.append(f"{rp}: a figure caption is missing")
+        for f in pipeline.figures(config):
+            if f"{f}.png" not in html:
+                errors.append(f"{rp}: figure {f} not in the report")
+        if pipeline.view_outputs(config) and layout.VIEWS_INDEX not in html:
+            errors.append(f"{rp}: the report does not name the 3-D views ({layout.VIEWS_INDEX})")
+        if members:                                     # a zip report carries every view page
+            carried = {m.split("/", 4)[-1] for m in members if m.count("/") >= 4}   # REPORT/data/raw/ID/...
+            for v in pipeline.view_pages(config):
+                if str(Path(v).relative_to(layout.VIEWS)) not in carried:
+                    errors.append(f"{rp}: the 3-D view {v} is not in the report")
+        if html.count("Parameters:") < len(pipeline.figures(config)):
+            errors.append(f"{rp}: a figure caption is missing")
     for e in errors:
         print("FAIL", e, file=sys.stderr)
-    print(f"checked {n} artifacts of {args.config}" + (f" and {args.report}" if args.report else "")
+    print(f"checked {n} artifacts of {args.config}" + (f" and {', '.join(args.report)}" if args.report else "")
           + f": {len(errors)} failure(s)")
     return 1 if errors else 0
 

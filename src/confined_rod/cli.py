@@ -124,6 +124,7 @@ def _overrides(pairs: list[str]) -> dict:
     """``--set key=value`` pairs as a mapping (values read as YAML); SceneError names a bad one."""
     import yaml
 
+    from .io import _yaml_loader
     from .sim.scenes import Scene
 
     out = {}
@@ -134,8 +135,9 @@ def _overrides(pairs: list[str]) -> dict:
             raise SceneError(f"--set {pair!r}: expected KEY=VALUE, e.g. --set L=40")
         if key not in Scene.field_names():
             raise SceneError(f"--set {pair!r}: unknown key {key!r}; known keys: {', '.join(Scene.field_names())}")
-        try:
-            out[key] = yaml.safe_load(text) if text.strip() else None
+        try:        # the scene files' reader: 1e-8 is a number (YAML 1.2), no aliases
+            out[key] = yaml.load(text, Loader=_yaml_loader(SceneError, f"--set {pair!r}", False)) if text.strip() \
+                else None
         except yaml.YAMLError:
             raise SceneError(f"--set {pair!r}: the value of {key!r} is not valid YAML") from None
     return out

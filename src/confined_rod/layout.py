@@ -12,8 +12,9 @@ tools use, relative to the checkout. ``results/`` is generated and git-ignored:
       datasets/<figure>.nc            what a figure plots (rule postprocess)
       checks/<figure>.txt             a convergence verdict (rule convergence_check)
       figures/<figure>.{pdf,png}      the figure (rule figure)
-      views/<figure>.json             the 3-D views of a figure's simulations (rule views)
-      views/rod_views.html            all of them in one page, the report's (rule views_page)
+      views/                          every simulation of the figures in 3-D (rule views):
+        index.html, plotly.min.js,    the list of them and the plotly.js their pages share,
+        <figure>/<scene>.html         one page per simulation
       claims.csv, claims.nc           the verdicts on the paper's claims (rule claims)
       paper/                          the manuscript's generated parts and PDF
       logs/<rule>/..., benchmarks/<rule>/...   one log and one benchmark per job
@@ -31,9 +32,13 @@ PROBES = RESULTS / "probes"
 PATHS = RESULTS / "paths"
 DATASETS = RESULTS / "datasets"
 CHECKS = RESULTS / "checks"
+#: the 3-D views (rule views): a folder, its index page, the plotly.js its pages share, and a page
+#: relative to the folder
 VIEWS = RESULTS / "views"
-#: every simulation's 3-D view in one page (plotly.js once), the report's entry (rule views_page)
-VIEWS_PAGE = str(VIEWS / "rod_views.html")
+VIEWS_FOLDER = str(VIEWS)
+VIEWS_INDEX = str(VIEWS / "index.html")
+VIEWS_PLOTLY = "plotly.min.js"
+VIEW_PAGE = "{figure}/{scene}.html"
 PAPER = RESULTS / "paper"
 LOGS = RESULTS / "logs"
 BENCHMARKS = RESULTS / "benchmarks"
@@ -68,9 +73,9 @@ def figure_paths(figure: str) -> tuple[str, str]:
     return str(RESULTS / "figures" / f"{figure}.pdf"), str(RESULTS / "figures" / f"{figure}.png")
 
 
-def view_path(figure: str) -> str:
-    """The 3-D views of a figure's simulations (plotly figures as JSON; rule views)."""
-    return str(VIEWS / f"{figure}.json")
+def view_page(figure: str, scene: str) -> str:
+    """The 3-D view of one simulation of a figure (rule views)."""
+    return str(VIEWS / VIEW_PAGE.format(figure=figure, scene=scene))
 
 
 def probe_path(figure: str, scene: str) -> str:

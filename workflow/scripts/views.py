@@ -1,4 +1,4 @@
-"""Snakemake script of rule `views`: a figure's simulations -> their 3-D views (plotly JSON)."""
+"""Snakemake script of rule `views`: every simulation of the figures -> its 3-D view (results/views/)."""
 import _checkout  # noqa: F401  (this checkout's src/ first on sys.path)
 
 # isort: split
@@ -6,5 +6,4 @@ from confined_rod.analysis import view
 from confined_rod.io import logged
 
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
-    view.write_figure_views(snakemake.wildcards.figure, snakemake.params.scenes,  # noqa: F821
-                            list(snakemake.input.sims), snakemake.output[0])  # noqa: F821
+    view.write_views(snakemake.output[0], snakemake.params.figures)  # noqa: F821

@@ -63,6 +63,9 @@ from .targets import (
                       stale_inputs,
                       view_figures,
                       view_outputs,
+                      view_pages,
+                      view_scenes,
+                      view_sims,
                       wanted_scene,
 )
 
@@ -73,5 +76,5 @@ __all__ = [
     "context", "convergence_figures", "costly_scenes", "expand", "figures", "kinds", "publication_value",
     "read_config", "read_figures", "scene_params", "scenes", "validate", "claim_sims", "claim_wanted",
     "expected_outputs", "figure_sims", "figure_wanted", "paper_outputs", "path_spec", "stale_inputs", "wanted_scene",
-    "view_figures", "view_outputs",
+    "view_figures", "view_outputs", "view_pages", "view_scenes", "view_sims",
 ]

@@ -86,7 +86,7 @@ CLAIMS = PACKAGE / "claims"
 STYLE = ANALYSIS / "plotting.py"
 #: the manuscript generator: the manuscript's generated parts only (the claims never import it)
 MANUSCRIPT = CLAIMS / "manuscript.py"
-#: the rods in 3-D (confined-rod view and the rules views, views_page)
+#: the rods in 3-D (confined-rod view and the rule views)
 VIEW = ANALYSIS / "view.py"
 
 
@@ -121,5 +121,5 @@ def paper_code() -> list[str]:
 
 
 def view_code() -> list[str]:
-    """The 3-D views of a figure's simulations: the view module and what it imports."""
+    """The 3-D views of the simulations: the view module and what it imports."""
     return code_closure(VIEW, skip=(STYLE,))

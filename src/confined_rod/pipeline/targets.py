@@ -106,9 +106,27 @@ def view_figures(config: dict[str, Any]) -> list[str]:
 
 
 def view_outputs(config: dict[str, Any]) -> list[str]:
-    """Each such figure's views and the page of all of them (the report's), if there is any."""
-    views = [layout.view_path(f) for f in view_figures(config)]
-    return views + [layout.VIEWS_PAGE] if views else []
+    """The folder of the 3-D views of those figures' simulations (rule views), if there is any."""
+    return [layout.VIEWS_FOLDER] if view_figures(config) else []
+
+
+def view_scenes(config: dict[str, Any]) -> list[tuple[str, str, list[tuple[str, str]]]]:
+    """What rule views draws: (figure, title, [(scene, scene file), ...]) of each such figure."""
+    return [(f, config["figures"][f].get("title", f), list(zip(scenes(config, f), figure_sims(config, f))))
+            for f in view_figures(config)]
+
+
+def view_sims(config: dict[str, Any]) -> list[str]:
+    """The scene files rule views reads (a file shared by two figures once)."""
+    return sorted({p for _, _, pairs in view_scenes(config) for _, p in pairs})
+
+
+def view_pages(config: dict[str, Any]) -> list[str]:
+    """The files in that folder: its index, the shared plotly.js and one page per simulation."""
+    if not view_figures(config):
+        return []
+    pages = [layout.view_page(f, s) for f in view_figures(config) for s in scenes(expand(config), f)]
+    return [layout.VIEWS_INDEX, str(layout.VIEWS / layout.VIEWS_PLOTLY), *pages]
 
 
 def paper_outputs(config: dict[str, Any]) -> list[str]:
