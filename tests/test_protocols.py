@@ -120,6 +120,13 @@ def test_protocol_comparison_stores_the_torque_and_the_formation():
     assert np.all(ds.torque_closure_member.values < 1e-3)
     # the profile drawn is the first seed's, from the loaded end
     np.testing.assert_allclose(ds.profile_F_abs.values[0], np.abs(sims["straight-s0"].F_z.values))
+    # the manuscript's macros read the formation's time axis t (the last snapshot's time)
+    from confined_rod.claims.manuscript import Macros, protocol_macros
+
+    macros = Macros()
+    protocol_macros("protocols", ds, macros)
+    plain = {k.split("@", 1)[1]: v[2] for k, v in macros.items.items()}
+    assert float(plain["protocols.formation_final"].replace("x10", "e")) == pytest.approx(float(ds.t.values[-1]), rel=0.05)
     ds.attrs.update(kind="protocol_comparison", title="test")
     fig = pc.plot(ds)
     assert len(fig.axes) == 8

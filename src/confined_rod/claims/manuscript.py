@@ -528,7 +528,7 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
         if key in ds.attrs:
             macros.add("val", f"{name}.{key}", f"{float(ds.attrs[key]):.2g}")
     if "t" in ds.coords and "formation_F_abs" in ds:
-        macros.add("val", f"{name}.formation_final", f"{float(ds['time'].values[-1]):.2g}")
+        macros.add("val", f"{name}.formation_final", f"{float(ds['t'].values[-1]):.2g}")
     if "torque_closure_member" in ds:
         free = (ds["variant_ends"].values == "free")[:, None] & (ds["has_member"].values == 1)
         worst = float(ds["torque_closure_member"].values[free].max()) if free.any() else 0.0
