@@ -11,9 +11,9 @@ build with SIGKILL, then recovers as the README says:
     snakemake --unlock --configfile CONFIG     # only if the rerun reports a stale lock
     snakemake --cores 2 --configfile CONFIG    # the profile sets --rerun-incomplete
 
-Both builds stop at the datasets and the convergence checks (``--until postprocess
-convergence_check``): the figures, the claims and the manuscript are pure functions of those,
-and leaving them out halves the test.  It compares every dataset (results/sims, probes,
+Both builds stop at the datasets and the convergence checks (their files, found in the
+reference, are the targets): the figures, the views, the claims and the manuscript are pure
+functions of those, and leaving them out halves the test.  It compares every dataset (results/sims, probes,
 paths, datasets) and every check verdict with the reference: all data variables bitwise equal except run times
 (variables named wall_time), all attributes equal except run times (names
 containing wall_time), ``history`` (a timestamp) and the git commits (``git_commit``,
@@ -49,9 +49,9 @@ def tracked_copy(dest: Path) -> None:
             shutil.copy2(ROOT / rel, dest / rel)
 
 
-#: the rules the interrupted build runs (and the last ones it runs: --until)
-UNTIL = ("postprocess", "convergence_check")
-RULES = ("batch", "simulate", "probe", "load_path") + UNTIL
+#: the rules the interrupted build runs (its targets are the datasets and checks of the reference)
+RULES = ("batch", "simulate", "probe", "load_path", "postprocess", "convergence_check")
+TARGETS: list[str] = []
 
 
 def finished_jobs(results: Path) -> int:
@@ -60,7 +60,7 @@ def finished_jobs(results: Path) -> int:
 
 
 def snakemake(work: Path, config: str, *extra: str) -> subprocess.CompletedProcess:
-    return subprocess.run([SNAKEMAKE, "--cores", "2", "--configfile", config, "--until", *UNTIL, *extra],
+    return subprocess.run([SNAKEMAKE, *TARGETS, "--cores", "2", *extra, "--configfile", config],
                           cwd=work, capture_output=True, text=True)
 
 
@@ -77,10 +77,13 @@ def main(argv=None) -> int:
         work = Path(tmp)
         tracked_copy(work)
         planned = finished_jobs(reference)
+        TARGETS[:] = [str(p.relative_to(reference.parent)) for p in
+                      sorted(layout.under(reference, layout.DATASETS).glob("*.nc"))
+                      + sorted(layout.under(reference, layout.CHECKS).glob("*.txt"))]
         kill_after = rng.randrange(1, max(2, planned - 2))
         summary["jobs_in_build"], summary["kill_after_jobs"] = planned, kill_after
         t0 = time.perf_counter()
-        proc = subprocess.Popen([SNAKEMAKE, "--cores", "2", "--configfile", args.config, "--until", *UNTIL], cwd=work,
+        proc = subprocess.Popen([SNAKEMAKE, *TARGETS, "--cores", "2", "--configfile", args.config], cwd=work,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
         while proc.poll() is None and finished_jobs(work / layout.RESULTS) < kill_after:
             time.sleep(0.05)

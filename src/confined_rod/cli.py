@@ -19,7 +19,8 @@ from .errors import DivergenceError, OutputPathError, ResourceLimitError, SceneE
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m confined_rod",
+    prog = "confined-rod" if Path(sys.argv[0]).name == "confined-rod" else "python -m confined_rod"
+    parser = argparse.ArgumentParser(prog=prog,
                                      description="Confined elastic rod simulations")
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
