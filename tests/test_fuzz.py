@@ -450,7 +450,7 @@ def test_the_summary_prints_the_signed_force_with_its_name(tmp_path):
     with xr.open_dataset(out) as ds:
         F = float(ds.F_transmitted)
     assert code == 0 and F == pytest.approx(-0.35, abs=1e-4)
-    assert f"F_transmitted = {F:.6g} (axial force on the lower support; negative: a pull)" in err
+    assert f"F_transmitted = {F:.6g} EI/R^2 (axial force on the lower support; negative: a pull)" in err
     assert "|F_z(L)|" not in err
 
 

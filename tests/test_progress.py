@@ -6,7 +6,7 @@ import importlib
 
 import pytest
 
-from confined_rod.pipeline.progress import CALIBRATE_AFTER, REPORT_EVERY_S, BuildProgress
+from confined_rod.pipeline.progress import CALIBRATE_AFTER, REPORT_EVERY_S, RULE_ESTIMATE_S, BuildProgress
 
 
 def test_time_left_from_the_estimates_and_the_measured_speed():
@@ -16,14 +16,14 @@ def test_time_left_from_the_estimates_and_the_measured_speed():
     for j in range(10):                                   # every simulation estimated at 8 s
         p.start(j, "simulate", 8.0)
     # nothing finished: 10 x 8 s of simulations and 2 figures at the rule's default, on 2 cores
-    assert p.remaining_estimate() == pytest.approx(80.0 + 2 * 4.0)
+    assert p.remaining_estimate() == pytest.approx(80.0 + 2 * RULE_ESTIMATE_S["figure"])
     now = 0.0
     for j in range(CALIBRATE_AFTER):                       # the machine runs them 2x slower than estimated
         now += 8.0                                         # two cores: 2 jobs of 16 s each per 16 s
         p.finish(j, now=now)
     assert p.speed(now) == pytest.approx(now * 2 / (CALIBRATE_AFTER * 8.0))
     left_est = p.remaining_estimate()
-    assert left_est == pytest.approx((10 - CALIBRATE_AFTER) * 8.0 + 2 * 4.0)
+    assert left_est == pytest.approx((10 - CALIBRATE_AFTER) * 8.0 + 2 * RULE_ESTIMATE_S["figure"])
     line = p.finish(CALIBRATE_AFTER, now=now + REPORT_EVERY_S)
     assert line.startswith(f"progress: {CALIBRATE_AFTER + 1} of 12 jobs done") and "left" in line
 

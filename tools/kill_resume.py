@@ -1,6 +1,6 @@
 """Kill a build at a random job, resume it as the README says, compare with an uninterrupted build.
 
-    python tools/kill_resume.py config/ci.yaml [--seed N]
+    python tools/kill_resume.py config/ci.yaml [--seed N] [--figure NAME ...]
 
 Run after a complete, uninterrupted build of the same config in this checkout
 (results/ is the reference).  In a copy of the checkout's tracked files (a fresh
@@ -54,9 +54,17 @@ RULES = ("batch", "simulate", "probe", "load_path", "postprocess", "convergence_
 TARGETS: list[str] = []
 
 
+FIGURES: list[str] = []        # --figure: only these figures' jobs (all if empty)
+
+
+def ours(path: Path) -> bool:
+    """A file of the figures under test: its folder, or its own name, is the figure's."""
+    return not FIGURES or any(f in path.parts or path.stem == f for f in FIGURES)
+
+
 def finished_jobs(results: Path) -> int:
     bench = layout.under(results, layout.BENCHMARKS)
-    return sum(1 for r in RULES for _ in (bench / r).rglob("*.tsv")) if bench.exists() else 0
+    return sum(1 for r in RULES for p in (bench / r).rglob("*.tsv") if ours(p)) if bench.exists() else 0
 
 
 def snakemake(work: Path, config: str, *extra: str) -> subprocess.CompletedProcess:
@@ -68,7 +76,10 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config", nargs="?", default="config/ci.yaml")
     ap.add_argument("--seed", type=int, default=None, help="random seed of the kill point (default: random)")
+    ap.add_argument("--figure", action="append", default=[],
+                    help="only this figure's jobs (repeatable; default: every figure of the config)")
     args = ap.parse_args(argv)
+    FIGURES[:] = args.figure
     reference = ROOT / layout.RESULTS
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(2**31)
     rng = random.Random(seed)
@@ -79,7 +90,8 @@ def main(argv=None) -> int:
         planned = finished_jobs(reference)
         TARGETS[:] = [str(p.relative_to(reference.parent)) for p in
                       sorted(layout.under(reference, layout.DATASETS).glob("*.nc"))
-                      + sorted(layout.under(reference, layout.CHECKS).glob("*.txt"))]
+                      + sorted(layout.under(reference, layout.CHECKS).glob("*.txt")) if ours(p)]
+        summary["figures"] = FIGURES or "all"
         kill_after = rng.randrange(1, max(2, planned - 2))
         summary["jobs_in_build"], summary["kill_after_jobs"] = planned, kill_after
         t0 = time.perf_counter()
@@ -108,6 +120,8 @@ def main(argv=None) -> int:
         compared = 0
         for folder in (*layout.SCENE_FOLDERS, layout.DATASETS):
             for ref in sorted(layout.under(reference, folder).rglob("*.nc")):
+                if not ours(ref):
+                    continue
                 rel = ref.relative_to(reference)
                 mine = work / layout.RESULTS / rel
                 compared += 1
@@ -115,6 +129,8 @@ def main(argv=None) -> int:
                 if d:
                     diffs[str(rel)] = d
         for ref in sorted(layout.under(reference, layout.CHECKS).glob("*.txt")):
+            if not ours(ref):
+                continue
             rel = ref.relative_to(reference)
             mine = work / layout.RESULTS / rel
             compared += 1

@@ -31,7 +31,8 @@ def main(argv: list[str] | None = None) -> int:
                        help="set one scene key, repeatable (--set L=40 --set k_fr=0.3); the value is read as YAML "
                             "and validated like a scene file")
     p_run.add_argument("-o", "--output", type=Path, required=True, help="output netCDF file")
-    p_run.add_argument("-q", "--quiet", action="store_true", help="no progress messages")
+    p_run.add_argument("-q", "--quiet", action="store_true",
+                       help="no progress messages (the one-line summary at the end stays)")
     p_run.add_argument("--budget", type=float, default=None, metavar="SECONDS",
                        help="refuse a scene whose estimated wall time exceeds this (default 3600 s; "
                             "the estimate comes from measured runs: confined_rod.limits.estimated_wall_time)")
@@ -227,9 +228,11 @@ def run(args: argparse.Namespace) -> int:
         except ResourceLimitError as exc:
             return refuse(str(exc))
         status = ds.attrs["status"]
+        force, length = ("N", "m") if scene.unit_system == "SI" else ("EI/R^2", "R")
         summary = (f"{scene.name}: {status.replace('_', ' ')} ({ds.attrs['status_reason']}); "
-                   f"F_transmitted = {float(ds.F_transmitted):.6g} (axial force on the lower support; negative: "
-                   f"a pull), L_z = {float(ds.L_z):.6g}, {int(ds.n_steps)} steps, {float(ds.wall_time):.1f} s")
+                   f"F_transmitted = {float(ds.F_transmitted):.6g} {force} (axial force on the lower support; "
+                   f"negative: a pull), L_z = {float(ds.L_z):.6g} {length}, {int(ds.n_steps)} steps, "
+                   f"{float(ds.wall_time):.1f} s wall time")
         try:
             write_dataset(ds, args.output)
         except OSError as exc:                  # a full disk, a folder removed meanwhile: the result is lost

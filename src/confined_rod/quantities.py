@@ -134,7 +134,7 @@ SCENE_PARAMETERS = [
 SIMULATION_VARIABLES = [
     Quantity("s", "s", "arc length from the loaded (upper) end", "R"),
     Quantity("s_link", "s", "arc length of the link centre from the loaded end", "R"),
-    Quantity("s_helix", "s", "arc length of the link centre from the loaded end", "R"),
+    Quantity("s_helix", "s", "arc length of the link centre from the loaded end, on the wall-contact stretch", "R"),
     Quantity("t", "t", "simulated time", "beta_ph R4 EI-1"),
     Quantity("x", "x", "x coordinate of the link centre", "R"),
     Quantity("y", "y", "y coordinate of the link centre", "R"),

@@ -19,7 +19,8 @@ class LogHandler(LogHandlerBase):
 
     def _say(self, line: str | None) -> None:
         if line and not getattr(self.common_settings, "dryrun", False):
-            print(line, file=sys.stderr, flush=True)
+            sys.stderr.write(line + "\n")       # one write: Snakemake's own lines cannot split it
+            sys.stderr.flush()
 
     def emit(self, record: LogRecord) -> None:
         event = getattr(record, "event", None)

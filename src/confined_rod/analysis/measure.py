@@ -1,7 +1,7 @@
 """Measurements of finished scene datasets (post-processing: reads datasets, never runs the simulator).
 
 Every function takes one scene dataset as written by ``simulate`` (variables
-``F_z(joint)``, ``x, y, z, contact(link)``, ``phi, dphi_ds(helix)``, attributes
+``F_z(s)``, ``x, y, z, contact(s_link)``, ``phi, dphi_ds(s_helix)``, attributes
 ``L, l0, R, EI, load``) and returns plain numbers or arrays.
 """
 from __future__ import annotations

@@ -17,6 +17,8 @@ optional dependency (``pip install confined_rod[view]``), imported inside the fu
 """
 from __future__ import annotations
 
+import dataclasses
+
 import html
 import json
 import re
@@ -260,6 +262,9 @@ def rod_from_dataset(ds, name: str = "rod") -> Rod:
         numeric = np.issubdtype(np.asarray(values).dtype, np.number)
         texts = distinct_numbers(np.asarray(values, float)) if numeric else [str(v).replace("_", " ") for v in values]
         after_snapshots = bool(shapes)             # then each label says what it is
+        if after_snapshots:                        # the slider mixes times and states: name each
+            shapes = [dataclasses.replace(s, label=f"t = {s.label}") for s in shapes]
+            frame_title = "shape"
         for i in range(ds.sizes[odim]):
             sel = {odim: i}
             label = f"{odim} {texts[i]}" if after_snapshots else texts[i]

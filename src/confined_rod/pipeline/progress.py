@@ -14,10 +14,10 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-#: typical wall time (s) of one job of the rules without a per-job estimate (a CI build's
-#: benchmarks: postprocess and figure 1.5-4 s, most of it the start-up of the interpreter)
-RULE_ESTIMATE_S = {"postprocess": 2.0, "figure": 4.0, "convergence_check": 2.0, "claims": 15.0,
-                   "paper_sources": 5.0, "paper": 20.0, "views": 30.0, "all": 0.0}
+#: typical wall time (s) of one job of the rules without a per-job estimate: medians of the CI
+#: build of 2026-12-03 (results/benchmarks; most of it the start-up of the interpreter)
+RULE_ESTIMATE_S = {"postprocess": 2.0, "figure": 3.6, "convergence_check": 1.5, "claims": 14.0,
+                   "paper_sources": 1.8, "paper": 2.5, "views": 6.2, "all": 0.0}
 DEFAULT_ESTIMATE_S = 2.0
 #: seconds between two reports (the last job is always reported)
 REPORT_EVERY_S = 10.0

@@ -286,6 +286,8 @@ class Scene:
         if not isinstance(data, dict):
             raise SceneError(f"a scene must be a mapping of keys to values, got {type(data).__name__}")
         known = set(cls.field_names())
+        if "name" in data and data["name"] is None:        # a template's 'name: null': the default
+            data = {k: v for k, v in data.items() if k != "name"}
         for key in data:
             if key not in known:
                 raise SceneError(f"unknown key {_short(key)} (value {_short(data[key])}); "
@@ -297,7 +299,7 @@ class Scene:
         if scene.free_span() > 0 and scene.ends != "guided":
             raise SceneError(
                 f"scene {_short(scene.name)}: invalid value for 'pore_length': {scene.pore_length:g} (shorter than "
-                f"L = {scene.L:g} with ends = {scene.ends!r}: the top {scene.free_span():g} of the rod would start "
+                f"L = {scene.L:g} with ends = {scene.ends!r}: the top {scene.free_span() / scene.R:g} R of the rod would start "
                 "outside the pore and the run end 'escaped'; leave pore_length out (it follows L) or set "
                 "ends: guided, the open entrance of Fig 8)")
         return scene
@@ -316,7 +318,8 @@ class Scene:
                              "(python -m confined_rod show-defaults lists them all)")
         data = {} if data is None else data
         if isinstance(data, dict):
-            data.setdefault("name", path.stem)
+            if data.get("name") is None:
+                data["name"] = path.stem
             data.update(overrides or {})
         return cls.from_dict(data)
 
@@ -331,12 +334,17 @@ class Scene:
             q = QUANTITIES.get(key)
             if not self.given(key):
                 shown = "null"
-                note = f"default {float(getattr(self, key)):g}, follows {DERIVED_FROM[key]}"
+                note = f"null: {float(getattr(self, key)):g} here, follows {DERIVED_FROM[key]}"
             else:
                 shown = _yaml_value(value)
                 note = ""
             unit = pretty_unit(q.units).replace("{", "").replace("}", "").replace("\\", "") if q else ""
-            desc = q.long_name if q else ("name of the run (default: the scene file's name)" if key == "name" else "")
+            if key == "name":
+                shown = "null"
+            desc = q.long_name if q else ("name of the run (null: the scene file's name)" if key == "name" else "")
+            if key in ("R", "EI"):          # they set the units: "[R]" would be circular
+                unit, desc = "", desc + (" (sets the unit of length)" if key == "R"
+                                         else " (sets the units: forces in EI/R^2)")
             comment = "; ".join(x for x in (f"[{unit}]" if unit else "", desc, note) if x)
             lines.append(f"{key}: {shown}  # {comment}" if comment else f"{key}: {shown}")
         return "\n".join(lines) + "\n"
