@@ -79,7 +79,8 @@ def _sim(L, seed, F, turns=2.0):
     return shape[["x", "y", "z", "wall_force", "friction_z", "friction_force", "F_z"]].assign(
         {"F_transmitted": F, "L_z": 0.9 * L, "contact": ("s_link", shape["contact"].values), "phi": ("s_helix", phi),
          "dphi_ds": ("s_helix", np.full(n, 0.3)), "converged": np.int8(1), "escaped": np.int8(0),
-         "residual_force": 1e-6, "wall_time": 1.0}).assign_coords(s_helix=("s_helix", np.linspace(0, L, n))).assign_attrs(
+         "residual_force": 1e-6, "wall_time": 1.0}
+    ).assign_coords(s_helix=("s_helix", np.linspace(0, L, n))).assign_attrs(
         {"L": L, "pore_length": L, "seed": seed, "load": 0.25, "k_fr": 0.8, "R": 1.0, "EI": 1.0})
 
 

@@ -21,10 +21,9 @@ No reduced symbol ever reaches ``units``: UDUNITS would read ``R`` as the roentg
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Any, Iterable
-
-import re
 
 import numpy as np
 import xarray as xr

@@ -18,7 +18,6 @@ optional dependency (``pip install confined_rod[view]``), imported inside the fu
 from __future__ import annotations
 
 import dataclasses
-
 import html
 import json
 import re
@@ -60,8 +59,8 @@ SQUEEZE_ABOVE = 8.0
 SQUEEZED = 6.0                 # a positive quantity spanning more than this factor is shown on a log scale
 
 
-#: the simulated time (named 'time' or 't' in the quantity table)
-TIME = next(QUANTITIES[n] for n in ("t", "time") if n in QUANTITIES)
+#: the simulated time
+TIME = QUANTITIES["t"]
 
 
 class ViewError(ValueError):

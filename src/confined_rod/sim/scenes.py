@@ -299,8 +299,8 @@ class Scene:
         if scene.free_span() > 0 and scene.ends != "guided":
             raise SceneError(
                 f"scene {_short(scene.name)}: invalid value for 'pore_length': {scene.pore_length:g} (shorter than "
-                f"L = {scene.L:g} with ends = {scene.ends!r}: the top {scene.free_span() / scene.R:g} R of the rod would start "
-                "outside the pore and the run end 'escaped'; leave pore_length out (it follows L) or set "
+                f"L = {scene.L:g} with ends = {scene.ends!r}: the top {scene.free_span() / scene.R:g} R of the rod "
+                "would start outside the pore and the run end 'escaped'; leave pore_length out (it follows L) or set "
                 "ends: guided, the open entrance of Fig 8)")
         return scene
 
