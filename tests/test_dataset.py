@@ -61,7 +61,7 @@ def test_contact_observables_are_consistent(ds):
     assert touching.any()
     assert np.all(ds.wall_force.values[~touching] == 0) and np.all(ds.wall_force.values[touching] > 0)
     # Coulomb with the cap: |f| <= min(k_fr N, cap l0) link by link
-    limit = np.minimum(0.8 * ds.wall_force.values, ds.attrs["friction_cap"] * ds.attrs["l0"])
+    limit = np.minimum(0.8 * ds.wall_force.values, ds.attrs["friction_cap"])
     assert np.all(ds.friction_force.values <= limit * (1 + 1e-12))
     assert ds.sizes["s_helix"] == ds.s_helix.size
     if ds.sizes["s_helix"]:

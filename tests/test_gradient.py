@@ -71,10 +71,10 @@ def test_forces_and_torques_are_minus_energy_gradient(rng, ends, lower_end):
 
 
 def test_friction_never_exceeds_coulomb_or_cap(rng):
-    """|f_i| <= min(k_fr N_i, cap l0) on every link, with equality for sliding links."""
+    """|f_i| <= min(k_fr N_i, cap) on every link, with equality for sliding links."""
     # k_fr and the cap are large so that this strongly strained state has links
     # in all three regimes: stuck, sliding at k_fr N, sliding at the cap
-    scene = Scene(L=6.0, l0=0.5, k_fr=5.0, friction_cap=1000.0, pore_length=6.0)
+    scene = Scene(L=6.0, l0=0.5, k_fr=5.0, friction_cap=500.0, pore_length=6.0)
     r, t = random_state(scene, rng)
     par = scene.params()
     ws = Workspace.for_links(scene.N)
@@ -82,10 +82,10 @@ def test_friction_never_exceeds_coulomb_or_cap(rng):
     F_cons = ws.F.copy()
     K.coulomb_friction(r, par, ws.Nw, ws.F, ws.Ff, ws.stuck)
     f = np.linalg.norm(ws.Ff, axis=1)
-    limit = np.minimum(scene.k_fr * ws.Nw, scene.friction_cap * scene.l0)
+    limit = np.minimum(scene.k_fr * ws.Nw, scene.friction_cap)
     assert np.all(f <= limit * (1 + 1e-12))
     sliding = (ws.Nw > 0) & (ws.stuck == 0)
-    capped = sliding & (scene.k_fr * ws.Nw > scene.friction_cap * scene.l0)
+    capped = sliding & (scene.k_fr * ws.Nw > scene.friction_cap)
     assert (ws.stuck == 1).any() and (sliding & ~capped).any() and capped.any(), "all regimes must occur"
     np.testing.assert_allclose(f[sliding], limit[sliding], rtol=1e-12)
     # friction is tangent to the wall: no radial component at the link centre

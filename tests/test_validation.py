@@ -45,7 +45,7 @@ def test_defaults_scale_with_R_and_EI():
     assert s.l0 == pytest.approx(0.5 * 2.0)
     assert s.k_ph == pytest.approx(1000.0 * 3.0 / 4.0)
     assert s.k_w == pytest.approx(1000.0 * 3.0 / 8.0)
-    assert s.friction_cap == pytest.approx(0.1 * 3.0 / 8.0)
+    assert s.friction_cap == pytest.approx(0.05 * 3.0 / 4.0)
 
 
 @pytest.mark.parametrize("content,needle", [

@@ -74,7 +74,7 @@ SCENE_PARAMETERS = [
     _param("EI", "EI", "bending stiffness of the rod", "EI", _POS),
     _param("load", "|F_z(0)|", "compressive axial load on the upper end", "EI R-2", _POS),
     _param("k_fr", "k_{fr}", "wall friction coefficient", "1", {**_NONNEG, "maximum": limits.K_FR_MAX}),
-    _param("friction_cap", "f_{cap}", "cap on the wall friction force per unit length (0 = none)", "EI R-3",
+    _param("friction_cap", "f_{cap}", "cap on the wall friction force on one link (0 = none)", "EI R-2",
            _NONNEG_OR_DEFAULT),
     _param("body_force", r"\mathbf{f}_{ext}", "external force per unit length (fx, fy, fz) on every link", "EI R-3",
            {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}),

@@ -254,7 +254,7 @@ FIGURE_QUANTITIES = [
         ("lower_azimuthal_share", r"\langle|f_\varphi|/|f|\rangle_{lower}", "mean azimuthal share of the friction "
          "on the lower region's links on the wall"),
         ("lower_utilisation", r"\langle|f|/f_{max}\rangle_{lower}", "mean friction utilisation |f|/min(k_fr N, "
-         "friction_cap l0) on the lower region's links on the wall"),
+         "friction_cap) on the lower region's links on the wall"),
         ("lower_stuck_share", r"\langle\mathrm{stuck}\rangle_{lower}", "share of the lower region's links on the "
          "wall in static friction"))
       for q in _member_stats(key, sym, text, "1", "each member; 0 where has_bulk_member is 0")],

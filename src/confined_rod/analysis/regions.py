@@ -15,7 +15,7 @@ link 0 in every dataset) it has
   so that it carries little axial force and |F_z| stays nearly flat.
 
 The regions are detected from the data alone, per link: q = f_z / f_max, the axial friction
-force over the largest the wall can give (f_max = min(k_fr N, friction_cap l0)), which is the
+force over the largest the wall can give (f_max = min(k_fr N, friction_cap)), which is the
 product of the share of the Coulomb limit that is used and the axial share of the friction.
 q is 1 on a link that slides axially at the limit and 0 on a link off the wall, stuck with
 no axial load, or slipping azimuthally. Smoothed over a window of ``WINDOW_R`` (a turn of
@@ -85,17 +85,17 @@ class DecayRate:
     n: int              # joints in the fit
 
 
-def friction_limit(wall_force, k_fr: float, friction_cap: float, l0: float) -> np.ndarray:
-    """The largest friction force per link, f_max = min(k_fr N, friction_cap l0) (no cap if 0)."""
+def friction_limit(wall_force, k_fr: float, friction_cap: float) -> np.ndarray:
+    """The largest friction force per link, f_max = min(k_fr N, friction_cap) (no cap if 0)."""
     f_max = k_fr * np.asarray(wall_force, dtype=float)
-    return np.minimum(f_max, friction_cap * l0) if friction_cap > 0 else f_max
+    return np.minimum(f_max, friction_cap) if friction_cap > 0 else f_max
 
 
-def axial_utilisation(contact, wall_force, friction_z, k_fr: float, friction_cap: float, l0: float) -> np.ndarray:
+def axial_utilisation(contact, wall_force, friction_z, k_fr: float, friction_cap: float) -> np.ndarray:
     """q = f_z / f_max per link (0 off the wall): positive where friction carries axial load
     away from the loaded end (reduces |F_z| along s)."""
     contact = np.asarray(contact) > 0
-    f_max = friction_limit(wall_force, k_fr, friction_cap, l0)
+    f_max = friction_limit(wall_force, k_fr, friction_cap)
     q = np.zeros(f_max.shape)
     ok = contact & (f_max > 0)
     q[ok] = np.asarray(friction_z, dtype=float)[ok] / f_max[ok]
@@ -184,7 +184,7 @@ def analyse(sim: xr.Dataset) -> Analysis:
     a = sim.attrs
     R, EI, l0, L, k_fr = (float(a[k]) for k in ("R", "EI", "l0", "L", "k_fr"))
     cap = float(a.get("friction_cap", 0.0))
-    q = axial_utilisation(sim["contact"].values, sim["wall_force"].values, sim["friction_z"].values, k_fr, cap, l0)
+    q = axial_utilisation(sim["contact"].values, sim["wall_force"].values, sim["friction_z"].values, k_fr, cap)
     s_link = np.asarray(sim["s_link"].values, dtype=float)
     reg = detect(s_link, q, l0, L, R)
     s, F = np.asarray(sim["s"].values, dtype=float), np.abs(np.asarray(sim["F_z"].values, dtype=float))

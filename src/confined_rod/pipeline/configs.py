@@ -444,7 +444,7 @@ def caption(config: dict[str, Any], figure: str) -> str:
     sc = next(iter(built.values()))
     varied = set(kinds.varied(fig["kind"], fig))
     common = [f"R = {sc.R:g}", f"EI = {sc.EI:g}", f"load |F_z(0)| = {sc.load:g} EI/R^2",
-              f"friction cap {sc.friction_cap:g} EI/R^3",
+              f"friction cap {sc.friction_cap:g} EI/R^2 per link",
               "protocol varied" if "protocol" in varied else f"protocol '{sc.protocol}'", _seeds_text(built),
               "perturbation varied" if "perturbation" in varied else f"perturbation {sc.perturbation:g} R"]
     units = {k: pretty_unit(QUANTITIES[k].units) for k in NUMERICS}

@@ -29,6 +29,7 @@ from ..io import finalize
 from ..limits import equilibrium_tol
 from ..quantities import variable
 from . import observables as obs
+from . import perturbation
 from .scenes import Scene
 from .solvers import explicit, implicit
 from .solvers.base import RunState, relax, run_protocol
@@ -60,11 +61,12 @@ def relax_at(scene: Scene, st: RunState) -> RunState:
 
 def nudge(scene: Scene, st: RunState, step: int) -> None:
     """Continuation: displace the link centres of the previous equilibrium by the scene's
-    perturbation (seeded per load step; in x only for the planar protocol), so that an
+    perturbation (a continuous function of the height, seeded per load step; in x only for the planar protocol), so that an
     equilibrium that has become unstable is left rather than tracked: without it the
     sweep stays on a saddle, whose instability grows from round-off only."""
-    rng = np.random.default_rng([scene.seed, 2, step])
-    d = rng.uniform(-1.0, 1.0, size=(scene.N, 2)) * scene.perturbation
+    z = (np.arange(scene.N) + 0.5) * scene.l0
+    d = perturbation.lateral(z, scene.L, scene.R, scene.perturbation, [scene.seed, step],
+                             stream=perturbation.NUDGE)
     st.r[:, 0] += d[:, 0]
     if scene.protocol != "planar":
         st.r[:, 1] += d[:, 1]

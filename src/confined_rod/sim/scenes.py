@@ -24,6 +24,7 @@ from .. import limits
 from ..errors import SceneError
 from ..errors import shorten as _short
 from ..quantities import QUANTITIES
+from . import perturbation
 from .model import kernels as K
 from .model.parameters import DiscreteConstants, discrete_constants
 
@@ -33,7 +34,9 @@ DEFAULT_L0 = 0.5  # R
 DEFAULT_K_PH = 1000.0  # EI/R^2: axial strain load/k_ph = 2.5e-4 at load 0.25
 DEFAULT_K_W = 1000.0  # EI/R^3 per link end: penetration <= N/k_w
 DEFAULT_K_T = 0.1  # x k_w: stick stiffness of the implicit solver's friction (docs/model.md, "implicit solver")
-DEFAULT_FRICTION_CAP = 0.1  # EI/R^3, friction per unit length; 8x the bulk k_fr K at load 0.25
+# EI/R^2, friction force per link: 0.1 EI/R^3 per length at the publication l0 = 0.5 R, 8x the bulk
+# k_fr K l0 at load 0.25, so it acts on concentrated contacts only (docs/model.md, "friction cap")
+DEFAULT_FRICTION_CAP = 0.05
 DEFAULT_PERTURBATION = 1e-3  # R
 DEFAULT_KICK = 0.1  # R
 DEFAULT_T_MAX = 2e5  # beta_ph R^4/EI; explicit solver, whose cost is proportional to simulated time
@@ -60,8 +63,10 @@ class Scene:
       L, R, EI     contour length, cylinder radius, bending stiffness
       load         |F_z(0)|, compressive force on the upper end (EI/R^2)
       k_fr         Coulomb friction coefficient of the wall
-      friction_cap maximum friction force per unit length of rod (EI/R^3);
-                   the paper's cap for the few hard-pressed links. ``0`` = no cap
+      friction_cap maximum friction force on one link (EI/R^2): the paper's cap for the
+                   few hard-pressed points, which are concentrated contacts, so a force
+                   (a cap per unit length would make them frictionless as l0 -> 0).
+                   ``0`` = no cap
       body_force   external force per unit length (fx, fy, fz) on every link
     Boundary conditions and protocol:
       pore_length  z of the open pore entrance (default L: the top of the unloaded rod);
@@ -200,7 +205,7 @@ class Scene:
         p[K.K_SUP] = c.k_support
         p[K.C_BEND] = c.C
         p[K.K_FR] = self.k_fr
-        p[K.F_CAP] = self.friction_cap * self.l0
+        p[K.F_CAP] = self.friction_cap
         p[K.FX:K.FZ + 1] = np.asarray(self.body_force) * self.l0
         p[K.LOWER_HELD] = 1.0 if self.lower_end == "held" else 0.0
         p[K.ENDS_PINNED] = 1.0 if self.ends == "pinned" else 0.0
@@ -212,16 +217,18 @@ class Scene:
         return p
 
     def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
-        """Straight rod on the axis from z = 0 to L, with the seeded perturbation."""
+        """Straight rod on the axis from z = 0 to L, with the seeded perturbation: one continuous
+        random function of the height (perturbation.lateral), sampled at the link centres, so
+        that a seed is the same rod at every l0."""
         N = self.N
         r = np.zeros((N, 3))
         r[:, 2] = (np.arange(N) + 0.5) * self.l0
         t = np.zeros((N, 3))
         t[:, 2] = 1.0
-        rng = np.random.default_rng(self.seed)
-        d = rng.uniform(-1.0, 1.0, size=(N, 2)) * self.perturbation
         if self.protocol == "helix":
-            return self._helix_start(d)
+            return self._helix_start(perturbation.lateral(np.arange(1, N + 1) * self.l0, self.L, self.R,
+                                                          self.perturbation, self.seed))
+        d = perturbation.lateral(r[:, 2], self.L, self.R, self.perturbation, self.seed)
         r[:, 0] += d[:, 0]
         if self.protocol in ("straight", "ramp"):
             r[:, 1] += d[:, 1]
@@ -235,7 +242,7 @@ class Scene:
         consecutive ends, so every bond starts at its rest length (a chain of arcs would be
         prestressed by the chord-arc difference, ~ k l0^3 w^4 R^2/24 per bond, which static
         friction would then lock in). The seeded perturbation moves the target of each end
-        laterally by d/2; the chain is then built end to end with chords of exactly l0 towards
+        laterally by d/2 (d at the arc length of each end from the support); the chain is then built end to end with chords of exactly l0 towards
         those targets, so the start is perturbed and still stress-free."""
         from ..theory import HELIX_F_MAX, helix_pitch_rate
 
@@ -272,9 +279,11 @@ class Scene:
         return np.geomspace(first, self.load, self.ramp_steps)
 
     def perturb_3d(self, r: np.ndarray) -> None:
-        """Second stage of 'planar_then_3d': seeded out-of-plane perturbation."""
-        rng = np.random.default_rng([self.seed, 1])
-        r[:, 1] += rng.uniform(-1.0, 1.0, size=r.shape[0]) * self.kick
+        """Second stage of 'planar_then_3d': seeded out-of-plane perturbation, a continuous
+        function of the height of the straight rod (perturbation.lateral, its own stream)."""
+        z = (np.arange(r.shape[0]) + 0.5) * self.l0
+        r[:, 1] += perturbation.lateral(z, self.L, self.R, self.kick, self.seed, components=1,
+                                        stream=perturbation.KICK)[:, 0]
 
     def to_dict(self) -> dict[str, Any]:
         return {k: float(v) if isinstance(v, _Default) else copy.deepcopy(v)
@@ -351,7 +360,7 @@ class Scene:
 
 
 #: what a numerical default follows (show-defaults writes it as null with this note)
-DERIVED_FROM = {"l0": "R", "k_ph": "EI/R^2", "k_w": "EI/R^3", "friction_cap": "EI/R^3", "perturbation": "R",
+DERIVED_FROM = {"l0": "R", "k_ph": "EI/R^2", "k_w": "EI/R^3", "friction_cap": "EI/R^2", "perturbation": "R",
                 "kick": "R", "t_max": "R^4/EI and the solver", "pore_length": "L", "dx_max": "R", "k_t": "k_w"}
 
 
@@ -443,7 +452,7 @@ def _validate(s: Scene) -> None:
     R, EI = s.R, s.EI
     resolved = {
         "l0": DEFAULT_L0 * R, "k_ph": DEFAULT_K_PH * EI / R**2, "k_w": DEFAULT_K_W * EI / R**3,
-        "friction_cap": DEFAULT_FRICTION_CAP * EI / R**3, "perturbation": DEFAULT_PERTURBATION * R,
+        "friction_cap": DEFAULT_FRICTION_CAP * EI / R**2, "perturbation": DEFAULT_PERTURBATION * R,
         "kick": DEFAULT_KICK * R,
         "t_max": (DEFAULT_T_MAX_IMPLICIT if s.solver == "implicit" else DEFAULT_T_MAX) * R**4 / EI,
         "pore_length": float(s.L), "dx_max": DEFAULT_DX_MAX * R,

@@ -133,8 +133,7 @@ def _lower_torque(d: xr.Dataset, a: regions.Analysis, b: torque.Budget) -> dict[
             "bulk_torque_max": float(np.max(np.abs(b.tau_friction[reg == 1]))),
             "lower_azimuthal_share": float(np.mean(np.abs(np.asarray(d["friction_phi"].values)[lower]) / f)),
             "lower_utilisation": float(np.mean(f / regions.friction_limit(
-                d["wall_force"].values, float(d.attrs["k_fr"]), float(d.attrs.get("friction_cap", 0.0)),
-                float(d.attrs["l0"]))[lower])),
+                d["wall_force"].values, float(d.attrs["k_fr"]), float(d.attrs.get("friction_cap", 0.0)))[lower])),
             "lower_stuck_share": float(np.mean(np.asarray(d["stuck"].values)[lower] > 0))}
 
 

@@ -55,10 +55,10 @@ def wall_force_coefficient(ev, spec, claim):
 def capped_fraction(ev, spec, claim):
     """Fraction of the links on the wall where the friction cap is below k_fr N."""
     key, sim = ev.sim(spec["figure"], spec["scene"], claim)
-    k_fr, cap, l0 = (float(sim.attrs[k]) for k in ("k_fr", "friction_cap", "l0"))
+    k_fr, cap = (float(sim.attrs[k]) for k in ("k_fr", "friction_cap"))
     N = np.asarray(sim.wall_force.values)
     on = N > 0
-    capped = on & (cap > 0) & (k_fr * N > cap * l0)
+    capped = on & (cap > 0) & (k_fr * N > cap)
     value = float(capped.sum() / max(on.sum(), 1))
     return Measured(value, value <= float(spec["max"]), f"{ev.file(key)}:wall_force, attrs k_fr, friction_cap", \
         f"{int(capped.sum())} of {int(on.sum())} links")

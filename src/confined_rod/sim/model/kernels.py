@@ -26,7 +26,7 @@ LOAD = 5  # |F_z(0)|, pushes the upper end towards -z
 K_SUP = 6  # stiffness of the z support of the lower end and of lateral pins
 C_BEND = 7  # C = EI/l0
 K_FR = 8  # Coulomb coefficient
-F_CAP = 9  # cap on the friction force per link (friction_cap * l0); <= 0: no cap
+F_CAP = 9  # cap on the friction force per link (friction_cap); <= 0: no cap
 FX = 10  # external force per link (body force per length * l0)
 FY = 11
 FZ = 12

@@ -138,7 +138,7 @@ class ImplicitStepper:
         self.dt_min = DT_MIN_FACTOR * c.dt_stable
         self.dx_max = scene.dx_max
         self.use_friction = scene.k_fr > 0.0
-        self.cap = scene.friction_cap * scene.l0
+        self.cap = scene.friction_cap
         self.h = 0.5 * scene.l0
         scale = scene.l0 * scene.load / scene.L
         self.gtol_F = max(NEWTON_TOL * scene.tol * scale, roundoff_force(scene))
