@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from confined_rod import theory
+
 L0 = 0.5  # link length
 
 
@@ -133,3 +135,46 @@ def profile_rod(tip_end=6.0, bulk_end=70.0, q_lower=0.1, tip_contacts=(1, 7), de
         attrs={"L": L, "l0": L0, "R": R, "EI": EI, "k_fr": K_FR, "friction_cap": 0.0, "load": LOAD,
                "seed": seed, "status": "converged"})
     return ds, rate
+
+
+def prescribed_helix(L=100.0, l0=0.5, k_fr=0.8, load=0.25, c_K=1.1, c_w=0.95, tip=4.0, bottom=0.0,
+                     seed=0, scale=1.0):
+    """A rod detached over the first `tip` R from the loaded end (|F_z| = load there), then on the
+    wall with wall force per length K = c_K R F^2/(4EI) and axial friction at its Coulomb limit
+    k_fr K, so d(1/|F_z|)/ds = c_K k_fr R/(4EI) exactly per link; pitch rate c_w w(F). Detached
+    again over the last `bottom` R (no friction there). A complete scene dataset for the ladders:
+    F_transmitted is the support's |F_z| times `scale` (a final state set apart from the local
+    relations, which hold in whichever equilibrium a seed reached)."""
+    R = EI = 1.0
+    N = int(round(L / l0))
+    s = np.arange(N + 1) * l0
+    s_link = (np.arange(N) + 0.5) * l0
+    contact = ((s_link > tip) & (s_link < L - bottom)).astype(np.int8)
+    rate = c_K * k_fr * R / (4 * EI)
+    F = np.empty(N + 1)
+    F[0] = load
+    fz = np.zeros(N)
+    for i in range(N):
+        if contact[i] and k_fr > 0:
+            fz[i] = F[i] - 1.0 / (1.0 / F[i] + rate * l0)
+        F[i + 1] = F[i] - fz[i]
+    F_link = 0.5 * (F[1:] + F[:-1])
+    K = np.where(contact == 1, c_K * R * F_link**2 / (4 * EI), 0.0)
+    if k_fr > 0:        # the friction per link is exactly k_fr times the wall force per link
+        K = np.where(contact == 1, fz / (k_fr * l0), 0.0)
+    on = np.flatnonzero(contact)
+    w = c_w * theory.helix_pitch_rate(F_link[on], R, EI)
+    phi = np.concatenate([[0.0], np.cumsum(w[1:] * l0)])
+    rho = np.where(contact == 1, R, 0.5 * R)
+    phi_all = np.interp(s_link, s_link[on], phi)
+    ds = xr.Dataset(
+        {"F_z": (("s",), -F), "contact": (("s_link",), contact), "wall_force": (("s_link",), K * l0),
+         "wall_force_density": (("s_link",), K), "friction_z": (("s_link",), fz),
+         "friction_force": (("s_link",), fz), "phi": (("s_helix",), phi), "dphi_ds": (("s_helix",), w),
+         "x": (("s_link",), rho * np.cos(phi_all)), "y": (("s_link",), rho * np.sin(phi_all)),
+         "z": (("s_link",), L - s_link), "F_transmitted": F[-1] * scale, "L_z": 0.97 * L,
+         "converged": np.int8(1), "wall_time": 0.1},
+        coords={"s": s, "s_link": s_link, "s_helix": s_link[on]},
+        attrs={"L": L, "l0": l0, "R": R, "EI": EI, "k_fr": k_fr, "friction_cap": 0.0, "load": load,
+               "seed": seed, "status": "converged"})
+    return ds

@@ -81,16 +81,15 @@ def test_bulk_pitch_of_a_helix():
 
 def test_a_long_verdict_is_shortened_for_the_figure_title_at_its_clauses_not_cut_mid_number():
     from confined_rod.analysis.figures.convergence import TITLE_LINES, _title_lines
-    ramp = ("inconclusive: F_transmitted: paired by seed: 256: paired change +3.7 +- 2.8 % (s.e., 16 seeds, 95 % "
-            "bound 9.7 %), tolerance 1 %: undecided, about 69 seeds would decide; over the 14 seeds that keep their "
-            "final state -0.36 +- 0.22 % (largest 1.8 %); 2 of 16 seeds changed their final state: seed 5 +37 %; "
-            "pitch: paired by seed: 256: paired change +2.5 +- 2.3 % (s.e., 16 seeds, 95 % bound 7.5 %), tolerance "
-            "1 %: undecided, about 149 seeds would decide")
+    ramp = ("inconclusive (about 150 seeds per rung would decide): F_transmitted at 256: shift +3.7 +- 2.8 % (95 % "
+            "bound 9.2 %), resolution 10 %, AD p = 0.25, n = 16/16: undecided 3 %; about 69 seeds per rung would "
+            "decide; pitch_ratio at 256: shift +2.5 +- 2.3 % (95 % bound 7 %), resolution 8.3 %, AD p = 0.1, "
+            "n = 16/16: undecided 2 %; about 150 seeds per rung would decide")
     lines = _title_lines("convergence in $n_{ramp}$: ", ramp)
     text = " ".join(lines)
     assert len(lines) <= TITLE_LINES and "..." not in text
-    assert ("F_transmitted: +3.7 $\\pm$ 2.8 % (95 % bound 9.7 % > 1 %); pitch: +2.5 $\\pm$ 2.3 % (95 % bound 7.5 % "
-            "> 1 %)") in text
+    assert ("F_transmitted at 256: +3.7 $\\pm$ 2.8 % (95 % bound 9.2 %); pitch_ratio at 256: +2.5 $\\pm$ 2.3 % "
+            "(95 % bound 7 %)") in text
     assert text.endswith(f"(full verdict: {layout.CHECKS})")
     k_w = ("inconclusive: F_transmitted: differences do not shrink monotonically (no asymptotic range); L_z: finest "
            "differences below a tenth of the tolerance (converged); pitch: finest differences below a tenth of the "

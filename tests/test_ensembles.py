@@ -114,99 +114,6 @@ def test_a_single_seed_per_length_builds_the_dataset_as_before():
 from confined_rod.analysis.figures import convergence  # noqa: E402
 
 
-@pytest.mark.parametrize("means, sems, status", [
-    # the publication rung (index 1) within tolerance of both finer rungs, decided: 2 s.e. fit in the margin
-    ([0.10, 0.070, 0.0702, 0.0701], [0.002, 0.0002, 0.0002, 0.0002], "pass"),
-    # 7 % off finer rungs that agree with each other, errors 0.5 %: a discretisation error
-    ([0.10, 0.070, 0.0753, 0.0752], [0.002, 0.0003, 0.0003, 0.0003], "fail"),
-    # the finer rungs disagree by 10 standard errors: nothing can be concluded
-    ([0.10, 0.070, 0.070, 0.080], [0.002, 0.0005, 0.0005, 0.0005], "inconclusive"),
-    # the same difference with large errors: 12.5 % off the finest rung, within the tolerance
-    # only by the 2-s.e. allowance: undecided, not a pass
-    ([0.10, 0.070, 0.070, 0.080], [0.002, 0.003, 0.003, 0.003], "inconclusive"),
-    # 1.4 % off (within the 2 % tolerance) but with 2 % standard errors: undecided as well
-    ([0.10, 0.070, 0.071, 0.0705], [0.002, 0.001, 0.001, 0.001], "inconclusive"),
-])
-def test_statistical_verdict_on_constructed_ensembles(means, sems, status):
-    values = np.array([1.0, 0.5, 0.25, 0.125])
-    got, dist, note = convergence.statistical_verdict(values, np.array(means), np.array(sems), 1, tol=0.02)
-    assert got == status, note
-    if "disagree" not in note:
-        assert dist == pytest.approx(max(abs(means[1] - m) / m for m in means[2:]))
-    if status == "inconclusive":
-        assert "combined s.e." in note
-
-
-def test_a_verdict_that_only_the_errors_bring_within_the_tolerance_is_inconclusive_with_the_numbers():
-    values, n = np.array([1.0, 0.5, 0.25]), np.array([30, 30, 30])
-    # 3 % off with a combined s.e. of 0.9 %: the point is beyond the 2 % tolerance, 2 s.e. reach back into it
-    means, sems = np.array([0.08, 0.0721, 0.070]), np.array([0.001, 0.00045, 0.00045])
-    got, dist, note = convergence.statistical_verdict(values, means, sems, 1, tol=0.02, n=n)
-    e = np.hypot(0.00045, 0.00045) / 0.070
-    assert got == "inconclusive" and dist == pytest.approx(0.0021 / 0.070)
-    assert "difference 3 %" in note and "tolerance 2 %" in note and f"combined s.e. {100 * e:.2g} %" in note
-    # seeds to exclude the tolerance: n (2 e / (d - tol))^2 = 30 (2 x 0.91 / 1)^2 = 99.2 -> 100
-    need = 30 * (2 * e / (0.03 - 0.02)) ** 2
-    assert convergence.seeds_to_decide(30, e, 0.03, 0.02) == pytest.approx(need)
-    assert "exclude the tolerance" in note and f"about {int(np.ceil(need))} seeds per rung (now 30)" in note
-    # 1 % off, within the 2 % tolerance, but 2 s.e. = 1.8 % exceed the 1 % margin: confirming it takes more seeds
-    means[1] = 0.0707
-    got, _, note = convergence.statistical_verdict(values, means, sems, 1, tol=0.02, n=n)
-    need = 30 * (2 * e / (0.02 - 0.01)) ** 2
-    assert got == "inconclusive" and "confirm the tolerance" in note
-    assert f"about {int(np.ceil(need))} seeds per rung" in note
-    # with that many seeds the standard errors shrink as 1/sqrt(n) and the same difference passes
-    small = sems * np.sqrt(30 / np.ceil(need))
-    assert convergence.statistical_verdict(values, means, small, 1, tol=0.02)[0] == "pass"
-    # 5 % off: beyond the tolerance by more than 2 s.e., a decided fail
-    means[1] = 0.0735
-    assert convergence.statistical_verdict(values, means, sems, 1, tol=0.02, n=n)[0] == "fail"
-
-
-def test_ensemble_ladder_dataset_from_constructed_rungs():
-    sims = {}
-    rng = np.random.default_rng(1)
-    for l0, mean in ((1.0, 0.075), (0.5, 0.070), (0.25, 0.0702)):
-        for seed in range(6):
-            # one coarse member jams with less than a turn: the pitch is then not compared
-            d = _sim(80.0, seed, mean + 0.001 * rng.standard_normal(), turns=0.9 if (l0, seed) == (1.0, 0) else 3.2)
-            d.attrs["l0"] = l0
-            sims[f"l0_{l0}-s{seed}"] = d
-    ds = convergence.build({"parameter": "l0", "tolerance": 0.02}, sims, {"publication_value": 0.5})
-    assert ds.attrs["status"] == "pass" and ds.sizes["member"] == 6 and "pitch" not in ds
-    assert ds["value"].values.tolist() == [1.0, 0.5, 0.25]                  # coarse to fine
-    F = ds["F_transmitted_member"].values
-    np.testing.assert_allclose(ds["F_transmitted"].values, F.mean(axis=1), rtol=1e-14)
-    np.testing.assert_allclose(ds["F_transmitted_sem"].values, F.std(axis=1, ddof=1) / np.sqrt(6), rtol=1e-12)
-
-
-def _l0_ladder(turns_of_l0, means=((1.0, 0.0684), (0.5, 0.0684), (0.25, 0.0725))):
-    sims = {}
-    rng = np.random.default_rng(2)
-    for l0, mean in means:
-        for seed in range(8):
-            # one coarse member jams with less than a turn (so the pitch, which these constructed
-            # shapes do not carry, is not compared; winding_shift reads the helical members only)
-            turns = 0.9 if (l0, seed) == (1.0, 0) else turns_of_l0(l0)
-            d = _sim(80.0, seed, mean * (1 + 0.005 * rng.standard_normal()), turns=turns)
-            d.attrs["l0"] = l0
-            sims[f"l0_{l0}-s{seed}"] = d
-    return convergence.build({"parameter": "l0", "tolerance": 0.02}, sims, {"publication_value": 0.5})
-
-
-def test_an_ensemble_ladder_whose_rungs_wind_differently_is_inconclusive_not_failed():
-    """conv_l0 of the publication build: the fine rung's mean |F_z(L)| 5.6 % above the publication
-    rung's, decided beyond 2 % + 2 s.e., but its helices wound 3.77 turns against 3.28: another
-    state (ensembles.STATE_TURNS), so the difference says nothing about l0."""
-    same = _l0_ladder(lambda l0: 3.3)
-    assert same.attrs["status"] == "fail"                                  # like with like: a decided fail
-    wound = _l0_ladder(lambda l0: 3.3 if l0 >= 0.5 else 3.8)
-    assert wound.attrs["status"].startswith("inconclusive: the rungs settle in different states")
-    assert "3.30 turns at 0.5 against 3.80 at 0.25" in wound.attrs["status"]
-    # within STATE_TURNS the states are the same and the verdict is the statistics'
-    assert _l0_ladder(lambda l0: 3.3 if l0 >= 0.5 else 3.5).attrs["status"] == "fail"
-
-
 # -- the jamming map (figures/jamming_map.py) -------------------------------------------------------
 from confined_rod.analysis.figures import jamming_map  # noqa: E402
 
@@ -348,90 +255,68 @@ def test_a_figure_read_by_another_must_exist_and_be_of_the_right_kind():
         pipeline.validate(config)
 
 
-def _aligned(d):
-    """The helix points of a constructed member at link centres (the bulk pitch reads z there)."""
-    return d.assign_coords(s_helix=("s_helix", d["s_link"].values[:: d.sizes["s_link"] // 8][:8]))
 
 
-def _ramp_ladder(changes, switched=(), spread=0.3, n_seeds=8, saddle=None):
-    """A ramp ladder 64, 128, 256 steps: seed k transmits F_k (spread over seeds by `spread`),
-    the finer rungs F_k (1 + change_k); the seeds in `switched` end half a turn apart at 256."""
+# -- ensemble ladders (figures/convergence.py): local relations and distributions of final states ------
+from confined_rod.analysis import distributions  # noqa: E402
+
+
+def _ladder(states, relations=(1.1, 1.1, 1.1), n_seeds=30, spread=0.03, saddle=None, tol=0.02, dist_tol=0.03):
+    """An l0 ladder 1, 0.5, 0.25 of prescribed helices: rung i has the local relations c_K =
+    relations[i] and final states F_transmitted drawn about states[i] (relative spread `spread`)."""
+    rng = np.random.default_rng(7)
     sims = {}
-    rng = np.random.default_rng(3)
-    base = 0.2 * (1 + spread * rng.uniform(-1, 1, n_seeds))
-    for steps, factor in ((64, 0.0), (128, 0.0), (256, 1.0)):
+    for i, l0 in enumerate((1.0, 0.5, 0.25)):
         for seed in range(n_seeds):
-            turns = 3.7 if (steps == 256 and seed in switched) else 3.2
-            d = _aligned(_sim(80.0, seed, base[seed] * (1 + factor * changes[seed]), turns=turns))
-            d.attrs.update(ramp_steps=steps, protocol="ramp", status="converged")
-            if seed == saddle:                   # this seed stops on the straight saddle at every rung
+            d = shapes.prescribed_helix(L=80.0, l0=l0, c_K=relations[i], seed=seed)
+            d["F_transmitted"] = ((), states[i] * (1 + spread * rng.standard_normal()))
+            if seed == saddle:
                 d["saddle"] = ((), np.int8(1))
-                d["F_transmitted"] = ((), 0.5)
-            sims[f"n{steps}-s{seed}"] = d
-    return convergence.build({"parameter": "ramp_steps", "tolerance": 0.01, "paired": True}, sims,
-                             {"publication_value": 128})
+            sims[f"l0_{l0:g}-s{seed}"] = d
+    return convergence.build({"parameter": "l0", "tolerance": tol, "distribution_tolerance": dist_tol}, sims,
+                             {"publication_value": 0.5})
 
 
-def test_paired_ramp_ladder_decides_what_the_spread_over_seeds_hides():
-    """Seeds spread by +-30 %, the finer ramp changes each by < 0.5 %: unpaired means could not
-    decide at 1 %, the paired comparison passes; a systematic -3 % shift fails."""
-    small = 0.004 * np.sin(np.arange(8))
-    ds = _ramp_ladder(small)
-    assert ds.attrs["status"] == "pass", ds.attrs["notes"]
-    assert ds.attrs["paired"] == 1 and "none of 8 seeds changed" in ds.attrs["notes"]
-    assert ds["publication_distance"].values[0] == pytest.approx(abs(small.mean()), rel=1e-9)
-    assert convergence.build({"parameter": "ramp_steps", "tolerance": 0.01}, {**_ramp_sims_unpaired(small)},
-                             {"publication_value": 128}).attrs["status"].startswith("inconclusive")
-    assert _ramp_ladder(small - 0.03).attrs["status"] == "fail"
+def test_ensemble_ladder_passes_when_relations_and_states_agree():
+    ds = _ladder((0.27, 0.27, 0.27))
+    assert ds.attrs["status"].startswith("pass"), ds.attrs["status"]
+    assert ds["value"].values.tolist() == [1.0, 0.5, 0.25]
+    q = list(ds["quantity"].values)
+    assert {"decay_ratio", "wall_force_ratio", "pitch_ratio", "F_transmitted", "L_z"} <= set(q)
+    # the finer rung is compared, the publication rung and the coarser one are not
+    assert ds["cmp_verdict_code"].values[2].tolist() == [1] * len(q)
+    assert ds["cmp_verdict_code"].values[:2].sum() == 0
+    F = ds["F_transmitted_member"].values
+    np.testing.assert_allclose(ds["F_transmitted_sem"].values, F.std(axis=1, ddof=1) / np.sqrt(30), rtol=1e-12)
+    res = ds["cmp_resolution"].values[2, q.index("F_transmitted")]
+    assert res == pytest.approx((distributions.Z_ALPHA + distributions.Z_POWER)
+                                * ds["cmp_shift_se"].values[2, q.index("F_transmitted")], rel=1e-12)
+    assert res <= 0.03
 
 
-def _ramp_sims_unpaired(changes):
-    ds = {}
-    rng = np.random.default_rng(3)
-    base = 0.2 * (1 + 0.3 * rng.uniform(-1, 1, 8))
-    for steps, factor in ((64, 0.0), (128, 0.0), (256, 1.0)):
-        for seed in range(8):
-            d = _aligned(_sim(80.0, seed, base[seed] * (1 + factor * changes[seed]), turns=3.2))
-            d.attrs.update(ramp_steps=steps, protocol="ramp")
-            ds[f"n{steps}-s{seed}"] = d
-    return ds
+def test_a_shifted_distribution_of_final_states_fails():
+    ds = _ladder((0.27, 0.27, 0.30))
+    assert ds.attrs["status"].startswith("fail: F_transmitted at 0.25"), ds.attrs["status"]
 
 
-def test_paired_ramp_ladder_lists_seeds_that_change_their_final_state():
-    """Two seeds end half a turn apart with +40 % and -30 %: they are named and marked, the
-    change of the others is given apart, and the ensemble's change is undecided at 1 % (the
-    same seeds without the switches pass)."""
-    changes = 0.002 * np.cos(np.arange(8))
-    assert _ramp_ladder(changes.copy()).attrs["status"] == "pass"
-    changes[[2, 5]] = (0.4, -0.3)
-    ds = _ramp_ladder(changes, switched=(2, 5))
-    notes = ds.attrs["notes"]
-    assert ds.attrs["status"].startswith("inconclusive"), notes
-    assert "2 of 8 seeds changed their final state" in notes
-    assert "seed 2 +40 %" in notes and "seed 5 -30 %" in notes
-    assert "over the 6 seeds that keep their final state" in notes
-    moved = ds["state_changed_member"].values
-    assert moved[2].tolist() == [0, 0, 1, 0, 0, 1, 0, 0] and moved[:2].sum() == 0
+def test_a_local_relation_that_moves_fails_even_when_the_states_agree():
+    ds = _ladder((0.27, 0.27, 0.27), relations=(1.1, 1.1, 1.2))
+    assert ds.attrs["status"].startswith("fail: decay_ratio at 0.25"), ds.attrs["status"]
+    assert "wall_force_ratio at 0.25" in ds.attrs["status"]
 
 
-def test_paired_ramp_ladder_of_three_seeds_uses_the_student_bound():
-    """Three seeds changing by -0.75, -0.35, +0.05 %: mean -0.35 %, s.e. 0.23 %. Two standard
-    errors would put the bound at 0.81 % (within 1 %), the 95 % Student bound with two degrees of
-    freedom (t = 4.30) at 1.34 %: undecided."""
-    assert convergence.t_factor(3) == pytest.approx(4.303, abs=1e-3)
-    assert convergence.t_factor(1000) == pytest.approx(1.962, abs=1e-3)
-    ds = _ramp_ladder(np.array([-0.0075, -0.0035, 0.0005]), n_seeds=3)
-    assert ds.attrs["status"].startswith("inconclusive"), ds.attrs["notes"]
-    assert "95 % bound 1.3 %" in ds.attrs["notes"] and "about 4 seeds would decide" in ds.attrs["notes"]
+def test_a_small_ensemble_is_inconclusive_with_the_seeds_that_would_decide():
+    ds = _ladder((0.27, 0.27, 0.27), n_seeds=4, spread=0.05)
+    st = ds.attrs["status"]
+    assert st.startswith("inconclusive (about "), st
+    need = int(st.split("about ")[1].split(" ")[0])
+    assert need > 4
+    assert convergence.verdict_word(st) == "inconclusive"
+    assert convergence.brief_status(st).count("95 % bound") >= 1
 
 
-def test_a_seed_on_a_saddle_is_left_out_of_a_paired_ladder_at_every_rung():
-    """Seed 5 stays straight above Euler's load (a saddle, as one seed of the publication's Fig 7
-    ramp ladder did): it is left out at every rung and named; the verdict is decided on the
-    other seeds, as without it."""
-    small = 0.004 * np.sin(np.arange(8))
-    ds = _ramp_ladder(small, saddle=5)
-    assert ds.attrs["status"] == "pass", ds.attrs["notes"]
-    assert int(ds["n_seeds"].values[0]) == 7
-    assert ds.attrs["left_out"].startswith("n64-s5 (converged on a saddle: straight above Euler's load)")
-    assert "left out, not at a stable equilibrium" in ds.attrs["notes"]
+def test_a_seed_on_a_saddle_is_left_out_and_named():
+    ds = _ladder((0.27, 0.27, 0.27), saddle=5)
+    assert ds.attrs["status"].startswith("pass"), ds.attrs["status"]
+    assert int(ds["n_seeds"].values[0]) == 29
+    assert ds.attrs["left_out"].startswith("l0_1-s5 (converged on a saddle")

@@ -53,6 +53,25 @@ FIGURE_QUANTITIES = [
     Quantity("observable", "", "observable of the convergence check", "1"),
     Quantity("observed_order", "p", "observed order of convergence (Richardson, three finest rungs)", "1"),
     Quantity("publication_distance", "", "relative distance of the publication setting from the limit", "1"),
+    Quantity("wall_force_ratio", r"\frac{K}{RF_z^2/(4EI)}", "wall force per length over its lowest order "
+             "R F_z^2/(4EI), median over the regular helix", "1"),
+    Quantity("pitch_ratio", r"\frac{|d\varphi/ds|}{w(F_z)}", "pitch rate over that of a torque-free helix on the "
+             "wall at the local force, median over the regular helix", "1"),
+    Quantity("total_turns", r"n_{\circlearrowleft}", "turns of the rod about the pore axis, summed without sign "
+             "over the off-axis links", "1"),
+    Quantity("n_reversals", r"n_{rev}", "reversals of handedness of the coil", "1"),
+    Quantity("quantity", "", "quantity compared between the rungs", "1"),
+    Quantity("shift", r"\delta", "relative shift of the publication rung's ensemble mean from this rung's", "1"),
+    Quantity("shift_se", r"\sigma_\delta", "standard error of the relative shift (Welch)", "1"),
+    Quantity("resolution", r"\delta_{95}", "smallest relative shift of the mean detected with 95 % power by a "
+             "two-sided 5 % test of these ensembles", "1"),
+    Quantity("p_ad", "p_{AD}", "p-value of the Anderson-Darling k-sample test of the two ensembles (scipy's range "
+             "0.001-0.25)", "1"),
+    Quantity("verdict_code", "", "comparison with the publication rung: 0 not compared (no values or the rung "
+             "itself), 1 within the tolerance, 2 beyond it, 3 undecided", "1"),
+    Quantity("seeds_needed", "n", "seeds per rung that would decide an undecided comparison (0: decided; -1: none "
+             "would, the shift equals the tolerance)", "1"),
+    Quantity("compared_tolerance", "", "relative tolerance the comparison is decided against", "1"),
     Quantity("error", r"\epsilon", "relative error of |F_z(L)| against the reference run", "1"),
     Quantity("run_l0", "l_0", "link length of the run", "R"),
     Quantity("run_knob", "", "accuracy knob of the run: tol (explicit) or dx_max in R (implicit)", "1"),

@@ -22,22 +22,22 @@ the classes or the winding numbers (to within half a turn) differ, or when the
 differences change sign.  An inconclusive check says why; whether it fails the
 build is the config's choice (``on_inconclusive``).
 
-Seed ensembles per rung (:func:`statistical_verdict`): the publication rung's mean is
-compared with every finer rung's mean. The check passes only when every difference plus
-two combined standard errors is below the tolerance and fails when a difference minus two
-standard errors is above it. In between (a difference within the tolerance whose errors
-reach beyond it, or one beyond it that only the error allowance brings back) the ensembles
-cannot decide: the verdict is *inconclusive*, and its note gives the difference, the
-tolerance, the combined standard error and the seeds per rung that would decide.
+Seed ensembles per rung (:func:`ladder_verdict`). With friction a seed's final state is one of
+many neighbouring equilibria, and any change of a numerical parameter can move it to another:
+no per-seed question of the final state has an answer. Two questions do:
 
-Paired ladders (option ``paired``; :func:`paired_verdict`). When every rung starts a seed from
-the same state and only the path to equilibrium differs (the number of steps of a load ramp),
-the rungs are compared seed by seed, which removes the spread between seeds. With friction a
-finer path can end in a neighbouring equilibrium (half a turn more or less of the helix), which
-is a change of final state, not a refinement of the same one. The verdict is decided on all
-seeds (the mean paired change plus its 95 % Student-t bound within the tolerance: how much a
-finer path moves the ensemble), and the note splits the change into the seeds that keep their
-state and those that changed it, each listed.
+1. the **local relations** of the regular helix (analysis.local_relations: the bulk decay rate,
+   the wall force per length, the pitch rate against the local force), which hold in whichever
+   equilibrium a seed reached, within ``tolerance`` of every finer rung;
+2. the **distribution of final states** (F_transmitted, L_z) within ``distribution_tolerance``:
+   the shift of the ensemble mean, with the resolution at 95 % power and the Anderson-Darling
+   k-sample p-value (analysis.distributions); the windings, reversals and the lower region's
+   length are compared by their p-values in the notes.
+
+pass when every comparison is within (its 95 % bound and its resolution inside the tolerance),
+fail when one is beyond (outside the tolerance beyond its 95 % bound), inconclusive otherwise,
+with the seeds per rung that would decide. ``paired`` ladders (every seed starts from the same
+rod on every rung) draw each seed's path across the rungs.
 """
 from __future__ import annotations
 
@@ -51,7 +51,7 @@ import xarray as xr
 
 from ... import layout
 from ...errors import ConfigError
-from .. import ensembles, run_checks
+from .. import distributions, ensembles, local_relations, regions, run_checks
 from .. import plotting as P
 from ..figure_quantities import attrs, label, variable
 from ..measure import bulk_pitch, n_turns
@@ -68,8 +68,11 @@ OPTIONS = {
                   "before the build fails"},
     "on_inconclusive": {"enum": ["fail", "warn"], "description": "what an inconclusive check (rungs in different "
                         "equilibrium states, non-monotone differences) does to the build: fail, or warn and go on"},
-    "paired": {"type": "boolean", "description": "compare the rungs seed by seed (paired_verdict): for ladders whose "
-               "rungs start every seed from the same state (ramp_steps); default false"},
+    "paired": {"type": "boolean", "description": "the rungs start every seed from the same rod and differ only in the "
+               "path (ramp_steps, dx_max): the figure joins each seed's values across the rungs; default false"},
+    "distribution_tolerance": {"type": "number", "exclusiveMinimum": 0, "description": "ensemble ladders: largest "
+                               "relative shift of the mean final state (F_transmitted, L_z) from a finer rung; "
+                               "default: tolerance, which then bounds the local relations only"},
     "publication_value": {"type": "number", "description": "the value the figures use when it is not a scene default "
                           "(e.g. the ramp_steps of the ramped figures); default: scene_defaults or the Scene default"},
 }
@@ -114,30 +117,24 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
     values = sorted({getattr(s, p) for s in built.values()}, reverse=True)
     vals = ", ".join(f"{v:g}" for v in values)
     n = len(built) / len(values)
-    if n > 1 and fig_cfg.get("paired"):
-        what = "a quasi-static load ramp of n_ramp steps" if p == "ramp_steps" else p
-        return (f"Convergence in the path to equilibrium: {what}, {p} = {vals} (L/R = {sc.L:g}, load = "
-                f"{sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each rung the same {n:g} seeds (a seed not at a stable "
-                f"equilibrium at some rung, capped or on a saddle, is left out at every rung and named in the "
-                f"verdict): ensemble means of the "
-                f"transmitted force, L_z and {PITCH_PANEL} against the refinement variable (error bars two standard "
-                f"errors), {P.words(P.SEEDS)} dots and lines the single seeds, {P.words(P.MARK)} circles the seeds "
-                f"that end in another final "
-                f"state than at the publication value (winding by at least {ensembles.STATE_TURNS:g} turn); the band "
-                f"of +-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The rungs are compared "
-                f"seed by seed: the publication value {p} = {publication_value:g} passes when the mean paired change "
-                "to every finer rung over all seeds, plus its 95 % Student-t bound, is within the tolerance; the seeds "
-                "that change state (a finer path may select a neighbouring equilibrium) are listed apart in the "
-                f"verdict ({layout.CHECKS}).")
     if n > 1:
-        return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}), each rung a seed ensemble of "
-                f"{n:g} runs: ensemble means of the transmitted force, L_z and {PITCH_PANEL} against the refinement "
-                f"variable, error bars two standard errors, {P.words(P.SEEDS)} dots the single seeds; the band of "
-                f"+-{100 * float(fig_cfg['tolerance']):g} % about the finest rung's mean. The publication value "
-                f"{p} = {publication_value:g} passes when its difference from every finer rung plus two combined "
-                "standard errors is within the tolerance and fails when the difference minus two standard errors "
-                "exceeds it; otherwise the ensembles are too small to decide and the verdict is inconclusive, with "
-                "the seeds per rung that would decide it.")
+        tol = 100 * float(fig_cfg["tolerance"])
+        dtol = 100 * float(fig_cfg.get("distribution_tolerance", fig_cfg["tolerance"]))
+        same = (" Every rung starts a seed from the same rod and only the path differs; lines join a seed's values."
+                if fig_cfg.get("paired") else "")
+        return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, load = {sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each "
+                f"rung a seed ensemble of {n:g} runs (a run not at a stable equilibrium is left out and named in the "
+                f"verdict). Two questions: the distribution of final states (the transmitted force and L_z) and the "
+                "local relations of the regular helix, which hold in whichever equilibrium a seed reached (the bulk "
+                "decay rate over k_fr R/(4EI), the wall force per length over R F_z^2/(4EI), the pitch rate over that "
+                f"of a torque-free helix at the local force). {P.words(P.SEEDS)} dots the single seeds, ensemble means "
+                "with their 95 % intervals, the band the tolerance about the finest rung's mean; panel titles give "
+                "the largest shift of the publication rung's mean from a finer rung and the resolution (the shift a "
+                f"5 % test of these ensembles detects with 95 % power). The publication value {p} = "
+                f"{publication_value:g} passes when every shift's 95 % bound and resolution are within the tolerance "
+                f"({tol:g} % for the relations, {dtol:g} % for the final states) and fails when a shift exceeds it "
+                "beyond its 95 % bound; otherwise the verdict is inconclusive and names the seeds per rung that would "
+                f"decide (full verdict with the Anderson-Darling p-values: {layout.CHECKS}).{same}")
     return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}): transmitted force, L_z and "
             f"bulk pitch against the refinement variable, with the Richardson limit from the three finest "
             f"rungs and the band of +-{100 * float(fig_cfg['tolerance']):g} % about it that the publication "
@@ -270,181 +267,40 @@ def _ladder(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=
     return ds
 
 
-def agree(m1: float, e1: float, m2: float, e2: float, tol: float) -> bool:
-    """Two ensemble means agree: |m1 - m2| <= tol |m2| + Z_AGREE sqrt(e1^2 + e2^2) (m2 the finer rung)."""
-    return abs(m1 - m2) <= tol * abs(m2) + Z_AGREE * math.hypot(e1, e2)
-
-
-def seeds_to_decide(n: float, se: float, dist: float, tol: float) -> float:
-    """Seeds per rung that make Z_AGREE combined standard errors smaller than the margin
-    |tol - dist| (all relative), so that the comparison with the tolerance is decided: the
-    standard errors shrink as 1/sqrt(n), so n (Z_AGREE se / margin)^2. inf at dist = tol."""
-    margin = abs(tol - dist)
-    return math.inf if margin == 0.0 else n * (Z_AGREE * se / margin) ** 2
-
-
-def statistical_verdict(values: np.ndarray, means: np.ndarray, sems: np.ndarray, ipub: int,
-                        tol: float, n: np.ndarray | None = None) -> tuple[str, float, str]:
-    """(status, distance, note) of one observable over rungs ordered coarse to fine.
-
-    For every rung finer than the publication one, with d the relative difference of the
-    means and e their combined relative standard error: decided within the tolerance if
-    d + Z_AGREE e <= tol, decided beyond it if d - Z_AGREE e > tol, undecided otherwise.
-    pass: every finer rung decided within; fail: one decided beyond; inconclusive: the finer
-    rungs disagree among themselves beyond tolerance and errors, or a comparison is
-    undecided. An undecided comparison is not a pass, also when the point difference is
-    above the tolerance and only the errors reach it: its note gives d, the tolerance, e
-    and the seeds per rung (``n``: the seeds of each rung) that would decide it
-    (:func:`seeds_to_decide`). The distance is the largest d."""
-    finer = list(range(ipub + 1, len(values)))
-    if not finer:
-        return "inconclusive", 0.0, "no rung finer than the publication value"
-    for a in finer:
-        for b in finer:
-            if a < b and not agree(means[a], sems[a], means[b], sems[b], tol):
-                return ("inconclusive", 0.0,
-                        f"the finer ensembles disagree beyond their errors: {values[a]:g}: {means[a]:.5g} +- "
-                        f"{sems[a]:.2g}, {values[b]:g}: {means[b]:.5g} +- {sems[b]:.2g} (difference "
-                        f"{abs(means[a] - means[b]) / math.hypot(sems[a], sems[b]):.1f} combined s.e.)")
-    rel = {j: (abs(means[ipub] - means[j]) / abs(means[j]), math.hypot(sems[ipub], sems[j]) / abs(means[j]))
-           for j in finer}
-    worst = max(finer, key=lambda j: rel[j][0])
-    dist = rel[worst][0]
-    beyond = [j for j in finer if rel[j][0] - Z_AGREE * rel[j][1] > tol]
-    undecided = [j for j in finer if j not in beyond and rel[j][0] + Z_AGREE * rel[j][1] > tol]
-
-    def numbers(j):
-        d, e = rel[j]
-        return (f"{values[j]:g}: difference {100 * d:.2g} %, tolerance {100 * tol:g} %, combined s.e. "
-                f"{100 * e:.2g} % ({d / e if e > 0 else math.inf:.1f} s.e.)")
-
-    if beyond:
-        j = max(beyond, key=lambda j: rel[j][0])
-        return ("fail", dist, "the publication rung differs from the finer rungs beyond tolerance and errors: "
-                + numbers(j))
-    if undecided:
-        parts = []
-        for j in undecided:
-            d, e = rel[j]
-            nj = max(float(n[ipub]), float(n[j])) if n is not None else None
-            need = seeds_to_decide(nj if nj is not None else 1.0, e, d, tol)
-            what = ("exclude the tolerance" if d > tol else "confirm the tolerance")
-            if n is None:
-                seeds = f"{need:.3g} times the seeds per rung"
-            elif math.isinf(need):
-                seeds = "no finite number of seeds (the difference equals the tolerance)"
-            else:
-                seeds = f"about {math.ceil(need)} seeds per rung (now {nj:g})"
-            parts.append(f"{numbers(j)}: {Z_AGREE:g} s.e. exceed the margin {100 * abs(tol - d):.2g} %; to "
-                         f"{what} needs {seeds}")
-        return "inconclusive", dist, "undecided at the tolerance: " + "; ".join(parts)
-    return "pass", dist, "ok, largest " + numbers(worst)
-
-
-def t_factor(n: int) -> float:
-    """Two-sided 95 % Student-t factor for the mean of n values (n - 1 degrees of freedom): the
-    bound a paired ladder uses instead of Z_AGREE, since its ensembles can be as small as 3
-    (t = 4.30 there, 2.13 for 16 seeds)."""
-    from scipy.stats import t
-
-    return float(t.ppf(0.975, n - 1))
-
-
-def paired_seeds_to_decide(n: int, se: float, dist: float, tol: float, n_max: int = 100_000) -> float:
-    """Seeds that make the 95 % Student bound t(m) s/sqrt(m) smaller than the margin |tol - dist|,
-    with s = se sqrt(n) the spread of the paired changes seen with n seeds; inf if none up to n_max."""
-    margin, spread = abs(tol - dist), se * math.sqrt(n)
-    if margin == 0.0:
-        return math.inf
-    m = max(n + 1, 2, math.ceil((1.96 * spread / margin) ** 2))    # the large-m bound is a lower limit
-    while m <= n_max:
-        if t_factor(m) * spread / math.sqrt(m) < margin:
-            return float(m)
-        m += max(1, m // 50)
-    return math.inf
-
-
-def paired_verdict(values: np.ndarray, v: np.ndarray, seeds: np.ndarray, turns: np.ndarray, has: np.ndarray,
-                   ipub: int, tol: float) -> tuple[str, float, str]:
-    """(status, distance, note) of one observable over rungs ordered coarse to fine, each finer
-    rung compared with the publication rung seed by seed (:func:`confined_rod.analysis.ensembles.paired_changes`).
-
-    Over all seeds both rungs have, d = |mean relative change| and e its standard error, with
-    t the 95 % Student factor (:func:`t_factor`): within the tolerance if d + t e <= tol, beyond it
-    if d - t e > tol, undecided otherwise (the note gives the seeds that would decide). A seed
-    that ends in another final state counts like any other: the question is how much a finer
-    path changes the ensemble. The note splits the change: over the seeds that keep their state
-    (a refinement of one equilibrium) and the seeds that changed it (another equilibrium), each
-    listed. The distance is the largest d."""
-    finer = list(range(ipub + 1, len(values)))
-    if not finer:
-        return "inconclusive", 0.0, "no rung finer than the publication value"
-    verdicts, dist, parts = [], 0.0, []
-    for j in finer:
-        common, rel, changed = ensembles.paired_changes(seeds, v, turns, has, ipub, j)
-        if rel.size < 2:
-            verdicts.append("inconclusive")
-            parts.append(f"{values[j]:g}: fewer than two seeds on both rungs")
-            continue
-        st, kept = ensembles.stats(rel), rel[~changed]
-        d, e, t = abs(st.mean), st.sem, t_factor(rel.size)
-        dist = max(dist, d)
-        ks = ensembles.stats(kept) if kept.size >= 2 else None
-        same = (f"; over the {ks.n} seeds that keep their final state {100 * ks.mean:+.2g} +- {100 * ks.sem:.2g} % "
-                f"(largest {100 * max(abs(ks.min), abs(ks.max)):.2g} %)" if ks else "")
-        switched = (f"; {int(changed.sum())} of {rel.size} seeds changed their final state (winding by >= "
-                    f"{ensembles.STATE_TURNS:g} turn): " + ", ".join(f"seed {s} {100 * r:+.2g} %" for s, r in
-                                                          zip(common[changed], rel[changed]))
-                    if changed.any() else f"; none of {rel.size} seeds changed its final state")
-        head = (f"{values[j]:g}: paired change {100 * st.mean:+.2g} +- {100 * e:.2g} % (s.e., {rel.size} seeds, "
-                f"95 % bound {100 * (d + t * e):.2g} %), tolerance {100 * tol:g} %")
-        if d - t * e > tol:
-            verdicts.append("fail")
-            parts.append(head + ": beyond" + same + switched)
-        elif d + t * e > tol:
-            verdicts.append("inconclusive")
-            need = paired_seeds_to_decide(rel.size, e, d, tol)
-            parts.append(head + (f": undecided, about {math.ceil(need)} seeds would decide" if math.isfinite(need)
-                                 else ": undecided") + same + switched)
-        else:
-            verdicts.append("pass")
-            parts.append(head + ": within" + same + switched)
-    status = "fail" if "fail" in verdicts else "inconclusive" if "inconclusive" in verdicts else "pass"
-    return status, dist, "paired by seed: " + "; ".join(parts)
-
-
 TITLE_WIDTH, TITLE_LINES = 95, 2
 
 
+def _keys_pattern() -> str:
+    return "|".join(re.escape(k) for k in (*OBSERVABLES, *RELATION_KEYS, *DESCRIPTOR_KEYS))
+
+
 def _first_clause(part: str) -> str:
-    """'F_transmitted: paired by seed: 256: paired change +3.7 +- 2.8 % (s.e., 16 seeds, 95 % bound
-    9.7 %), tolerance 1 %: undecided, about 69 seeds would decide; ...' -> 'F_transmitted: paired
-    +3.7 +- 2.8 % (95 % bound 9.7 % > 1 %)': the observable and the last label of its headline,
-    cut before the first parenthesis or comma; for an undecided ensemble its mean change and the
-    95 % bound that exceeds the tolerance."""
-    name, sep, rest = part.partition(": ") if part.split(": ")[0] in OBSERVABLES else ("", "", part)
-    head = re.split(r" \(|, ", rest, maxsplit=1)[0].rsplit(": ", 1)[-1]
-    # why an ensemble does not decide: its 95 % bound against the tolerance, and the seeds it would take
-    bound = re.search(r"95 % bound ([^)]*?%)\), tolerance ([^:]*?%): undecided", rest)
-    change = re.search(r"[+-]?[\d.]+ \+- [\d.]+ %", head)
-    if bound and change:
-        head = f"{change[0]} (95 % bound {bound[1]} > {bound[2]})"
-    return name + sep + head
+    """'F_transmitted at 0.125: shift -1.5 +- 1.1 % (95 % bound 3.6 %), resolution ...: undecided 2 %'
+    -> 'F_transmitted at 0.125: -1.5 +- 1.1 % (95 % bound 3.6 %)'; any other reason: its
+    quantity and the text before the first parenthesis or comma."""
+    m = re.match(rf"((?:{_keys_pattern()})(?: at [^:]+)?): (.*)", part)
+    name, rest = (m[1] + ": ", m[2]) if m else ("", part)
+    shift = re.search(r"shift ([+-]?[\d.e+-]+ \+- [\d.e+-]+ %) \(95 % bound ([^)]*)\)", rest)
+    if shift:
+        return f"{name}{shift[1]} (95 % bound {shift[2]})"
+    return name + re.split(r" \(|, ", rest, maxsplit=1)[0].rsplit(": ", 1)[-1]
 
 
 def brief_status(status: str) -> str:
-    """A verdict by its headlines: per observable that decides it ("F_transmitted: ...;
-    pitch: ..."; an observable that converged is left out) the first clause of its reason
-    (_first_clause). The full text is in results/checks."""
+    """A verdict by its headlines: its word and, per quantity that decides it, the shift and its
+    95 % bound (or the first clause of its reason; a quantity that converged is left out). The
+    full text is in results/checks."""
     word, _, reasons = status.partition(": ")
     if not reasons:
         return status
-    # one part per observable ("F_transmitted: ...; pitch: ..."; a part may hold "; " itself)
-    starts = "|".join(re.escape(k) for k in OBSERVABLES)
-    parts = re.split(rf"; (?=(?:{starts}): )", reasons)
-    # an observable that converged is not why the verdict is what it is
-    parts = [_first_clause(part) for part in parts if not part.endswith("(converged)")] or [_first_clause(parts[0])]
-    return f"{word}: " + "; ".join(parts)
+    parts = re.split(rf"; (?=(?:{_keys_pattern()})(?: at [^:]+)?: )", reasons)
+    parts = [p for p in parts if not p.endswith("(converged)")] or parts[:1]
+    return f"{verdict_word(word)}: " + "; ".join(_first_clause(p) for p in parts)
+
+
+def verdict_word(status: str) -> str:
+    """'pass', 'fail' or 'inconclusive' of a status text."""
+    return re.split(r"[:( ]", status, maxsplit=1)[0]
 
 
 def _title_lines(head: str, status: str) -> list[str]:
@@ -460,30 +316,95 @@ def _title_lines(head: str, status: str) -> list[str]:
                          placeholder=f" ... (full verdict: {layout.CHECKS})")
 
 
-def winding_shift(values: np.ndarray, turns: np.ndarray, has: np.ndarray, ipub: int) -> str:
-    """Finer rungs whose helices settle in another state than the publication rung's: the mean
-    winding of their helical members (at least one turn) differs by ensembles.STATE_TURNS or more,
-    the project's measure of another final state. A difference of ensemble means across such
-    rungs compares different equilibria, not a discretisation error (conv_l0, publication build
-    of 2026-12-02: 3.28 turns at l0 = 0.5 against 3.77 at 0.125, so its 5.6 % difference in
-    |F_z(L)| decided nothing about l0)."""
-    hel = (has == 1) & (turns >= 1.0)
+#: the two questions an ensemble ladder decides (module docstring): the local relations per seed,
+#: and the distribution of final states (its mean tested against ``distribution_tolerance``)
+RELATION_KEYS = local_relations.RELATIONS
+STATE_KEYS = ("F_transmitted", "L_z")
+#: descriptors of the final state whose distributions are compared (AD p-values in the note) but
+#: do not decide: a winding or a reversal is what multistability changes
+DESCRIPTOR_KEYS = ("total_turns", "n_reversals", "lower_length")
+VERDICT_CODE = {distributions.WITHIN: 1, distributions.BEYOND: 2, distributions.UNDECIDED: 3}
 
-    def mean(i):
-        return float(turns[i, hel[i]].mean()) if hel[i].any() else math.nan
 
-    a = mean(ipub)
-    apart = [f"{mean(j):.2f} at {values[j]:g}" for j in range(ipub + 1, len(values))
-             if math.isfinite(a) and math.isfinite(mean(j)) and abs(mean(j) - a) >= ensembles.STATE_TURNS]
-    if not apart:
-        return ""
-    return (f"mean winding of the helical members {a:.2f} turns at {values[ipub]:g} against "
-            + " and ".join(apart) + f": apart by {ensembles.STATE_TURNS:g} turn or more")
+def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
+    """What an ensemble ladder reads from one run: the state, its descriptors, the local relations."""
+    sh = ensembles.shape(sim)
+    out: dict[str, float | None] = {"F_transmitted": float(sim["F_transmitted"]), "L_z": float(sim["L_z"]),
+                                    "total_turns": sh.total_turns, "n_reversals": float(sh.reversals.size)}
+    rel = local_relations.measure(sim)
+    out.update(rel)
+    out["lower_length"] = (float(regions.summary(sim)["lower_length"]) if float(sim.attrs["k_fr"]) > 0 else None)
+    return out
+
+
+def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: np.ndarray, ipub: int,
+                   tol: float, dist_tol: float) -> tuple[str, list[str], dict[str, list]]:
+    """(status, notes, table) of a ladder of ensembles ordered coarse to fine. ``members[k]`` is
+    (rung, member) with NaN where member k has no value (no regular helix, say).
+
+    Every rung finer than the publication one is compared with it (distributions.compare): the
+    local relations against ``tol``, the state (F_transmitted, L_z) against ``dist_tol``; the
+    descriptors only by their AD p-value. fail if a comparison is beyond its tolerance; else
+    inconclusive if one is undecided (its note names the seeds per rung that would decide); else
+    pass. A relation with fewer than two values on either rung is not compared (said in the notes);
+    a ladder with no local relation on its publication rung is inconclusive."""
+    finer = list(range(ipub + 1, len(values)))
+    table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp")}
+    notes, decisive = [], []
+    if not finer:
+        return "inconclusive: no rung finer than the publication value", ["no finer rung"], table
+    compared_relation = False
+    for k in (*RELATION_KEYS, *STATE_KEYS, *DESCRIPTOR_KEYS):
+        if k not in members:
+            continue
+        for j in finer:
+            a = members[k][ipub][(has[ipub] == 1) & np.isfinite(members[k][ipub])]
+            b = members[k][j][(has[j] == 1) & np.isfinite(members[k][j])]
+            where = f"{k} at {values[j]:g}"
+            if a.size < 2 or b.size < 2:
+                if k in RELATION_KEYS and (a.size or b.size):
+                    notes.append(f"{where}: not compared ({a.size} and {b.size} runs with a regular helix)")
+                continue
+            if k in DESCRIPTOR_KEYS:
+                p = distributions.anderson_p(a, b)
+                notes.append(f"{where}: AD p = {p:.3g} (mean {a.mean():.3g} against {b.mean():.3g}; not deciding)")
+                continue
+            if np.mean(b) == 0.0:
+                continue
+            c = distributions.compare(a, b, tol if k in RELATION_KEYS else dist_tol)
+            compared_relation |= k in RELATION_KEYS
+            table["rung"].append(j)
+            table["quantity"].append(k)
+            table["cmp"].append(c)
+            line = f"{where}: {c.text()}"
+            notes.append(line)
+            if c.verdict != distributions.WITHIN:
+                decisive.append((c, line))
+    if not compared_relation:
+        return ("inconclusive: no local relation could be compared (no regular helix on the publication rung and a "
+                "finer one)"), notes, table
+    beyond = [line for c, line in decisive if c.verdict == distributions.BEYOND]
+    undecided = [(c, line) for c, line in decisive if c.verdict == distributions.UNDECIDED]
+    if beyond:
+        return "fail: " + "; ".join(beyond), notes, table
+    if undecided:
+        need = max(c.seeds_needed for c, _ in undecided)
+        head = ("no finite number of seeds decides" if math.isinf(need)
+                else f"about {math.ceil(need)} seeds per rung would decide")
+        return f"inconclusive ({head}): " + "; ".join(line for _, line in undecided), notes, table
+    largest = {}
+    for k, c in zip(table["quantity"], table["cmp"]):
+        if abs(c.shift) >= abs(largest.get(k, c).shift):
+            largest[k] = c
+    summary = ", ".join(f"{k} {100 * c.shift:+.2g} % (resolution {100 * c.resolution:.2g} %)"
+                        for k, c in largest.items())
+    return (f"pass: local relations within {100 * tol:g} %, final states within {100 * dist_tol:g} % (largest "
+            f"shifts: {summary})"), notes, table
 
 
 def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
-    """The ladder with a seed ensemble per rung: members, means, standard errors and the
-    statistical verdict (statistical_verdict)."""
+    """The ladder with a seed ensemble per rung: members, means, standard errors, the local
+    relations and the comparisons with the publication rung (ladder_verdict)."""
     param = fig_cfg["parameter"]
     hname, hfun = REFINEMENT[param]
     groups = sorted(groups, key=lambda g: -hfun(float(sims[g[0]].attrs[param])))
@@ -493,69 +414,57 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
         raise ValueError(f"convergence ladder over {param} does not contain the publication value {publication_value}")
     ipub = int(np.flatnonzero(np.isclose(values, publication_value, rtol=1e-9))[0])
     tol = float(fig_cfg["tolerance"])
+    dist_tol = float(fig_cfg.get("distribution_tolerance", tol))
     pad = ensembles.Padded(groups, sims)
-    members, has = pad.values, pad.has
-    turns = members(n_turns)
-    helical = (turns >= 1.0) | (has == 0)
-    paired = bool(fig_cfg.get("paired", False))
-    obs = {"F_transmitted": members(lambda d: float(d["F_transmitted"])), "L_z": members(lambda d: float(d["L_z"]))}
-    # the pitch needs a helix on every rung the verdict reads: all of them, or for a paired
-    # ladder the publication rung and the finer ones (a coarser rung's seeds that jammed with
-    # less than a turn are then left out of its pitch statistics)
-    if helical[ipub if paired else 0:].all():
-        obs["pitch"] = members(bulk_pitch)
-    seeds = members(lambda d: float(d.attrs["seed"]))
-    data, dist, notes, statuses = {}, [], [], []
-    for k, v in obs.items():
-        use = (has == 1) & (helical if k == "pitch" else True)
-        st = [ensembles.stats(v[i, use[i]]) for i in range(len(groups))]
-        means, sems = np.array([s.mean for s in st]), np.array([s.sem for s in st])
+    has = pad.has
+    per_run = {id(d): _member_values(d) for d in sims.values()}
+    keys = (*RELATION_KEYS, *STATE_KEYS, *DESCRIPTOR_KEYS)
+    members = {k: pad.values(lambda d, k=k: _or_nan(per_run[id(d)][k]), fill=math.nan) for k in keys}
+    members = {k: v for k, v in members.items() if np.isfinite(v[has == 1]).any()}
+    status, notes, table = ladder_verdict(values, members, has, ipub, tol, dist_tol)
+    seeds = pad.values(lambda d: float(d.attrs["seed"]))
+    data = {}
+    shown = [k for k in (*STATE_KEYS, *RELATION_KEYS) if k in members]
+    for k in shown:
+        v = members[k]
+        ok = (has == 1) & np.isfinite(v)
+        st = [ensembles.stats(v[i, ok[i]]) if ok[i].sum() else None for i in range(len(groups))]
+        means = np.array([s.mean if s else 0.0 for s in st])
+        sems = np.array([s.sem if s else 0.0 for s in st])
         data[k] = variable(("rung",), means, k)
         data[f"{k}_sem"] = xr.Variable(("rung",), sems, attrs={**attrs(k), "long_name": "standard error of the "
                                                                  "ensemble mean of " + attrs(k)["long_name"]})
-        data[f"{k}_member"] = xr.Variable(("rung", "member"), v, attrs={**attrs(k), "long_name": attrs(k)["long_name"]
-                                                                         + " of each ensemble member"})
+        data[f"{k}_member"] = xr.Variable(("rung", "member"), np.where(ok, v, 0.0),
+                                          attrs={**attrs(k), "long_name": attrs(k)["long_name"]
+                                                 + " of each ensemble member (0 where it has none)"})
+        data[f"{k}_has"] = xr.Variable(("rung", "member"), ok.astype(np.int8),
+                                       attrs={"long_name": f"1 where the member has a value of {k}", "units": "1"})
         data[f"{k}_limit"] = xr.Variable((), means[-1], attrs={**attrs(k), "long_name": "ensemble mean at the finest "
                                                                 "rung of " + attrs(k)["long_name"]})
-        if paired:
-            status, d, note = paired_verdict(values, v, seeds, turns, has, ipub, tol)
-        else:
-            status, d, note = statistical_verdict(values, means, sems, ipub, tol, n=has.sum(axis=1))
-        statuses.append(status)
-        dist.append(d)
-        notes.append(note)
-    checked = list(obs)
-    bad = [f"{k}: {n}" for k, s, n in zip(checked, statuses, notes) if s == "inconclusive"]
-    moved = "" if paired else winding_shift(values, turns, has, ipub)
-    if moved:
-        status = "inconclusive: the rungs settle in different states (" + moved + ")"
-    elif bad:
-        status = "inconclusive: " + "; ".join(bad)
-    elif "fail" in statuses:
-        status = "fail"
-    else:
-        status = "pass"
-    data["n_turns"] = variable(("rung",), pad.mean(n_turns), "n_turns")
-    data["n_turns_member"] = xr.Variable(("rung", "member"), turns, attrs={**attrs("n_turns"), "long_name":
-                                         attrs("n_turns")["long_name"] + " of each ensemble member"})
+    quantities = [k for k in (*RELATION_KEYS, *STATE_KEYS) if k in members]
+    shape = (len(groups), len(quantities))
+    cmp_vars = {"shift": np.zeros(shape), "shift_se": np.zeros(shape), "resolution": np.zeros(shape),
+                "p_ad": np.ones(shape), "verdict_code": np.zeros(shape, dtype=np.int8),
+                "seeds_needed": np.zeros(shape), "compared_tolerance": np.zeros(shape)}
+    for j, k, c in zip(table["rung"], table["quantity"], table["cmp"]):
+        q = quantities.index(k)
+        cmp_vars["shift"][j, q], cmp_vars["shift_se"][j, q] = c.shift, c.se
+        cmp_vars["resolution"][j, q], cmp_vars["p_ad"][j, q] = c.resolution, c.p_ad
+        cmp_vars["verdict_code"][j, q] = VERDICT_CODE[c.verdict]
+        cmp_vars["seeds_needed"][j, q] = -1.0 if math.isinf(c.seeds_needed) else c.seeds_needed
+        cmp_vars["compared_tolerance"][j, q] = c.tolerance
+    for name, arr in cmp_vars.items():
+        data[f"cmp_{name}"] = variable(("rung", "quantity"), arr, name)
+    data["n_turns_member"] = xr.Variable(("rung", "member"), pad.values(n_turns), attrs={
+        **attrs("n_turns"), "long_name": attrs("n_turns")["long_name"] + " of each ensemble member"})
     data["has_member"] = variable(("rung", "member"), has, "has_member")
     data["member_seed"] = variable(("rung", "member"), seeds.astype(np.int64), "member_seed")
-    if paired:
-        changed = np.zeros(has.shape, dtype=np.int8)
-        for j in (j for j in range(len(groups)) if j != ipub):
-            common, _, moved = ensembles.paired_changes(seeds, np.ones_like(turns), turns, has, ipub, j)
-            for s, m in zip(common, moved):
-                changed[j, list(seeds[j]).index(s)] = int(m)
-        data["state_changed_member"] = xr.Variable(
-            ("rung", "member"), changed, attrs={"long_name": "1 where the seed's final state differs from its state at "
-                                                f"the publication rung (winding by >= {ensembles.STATE_TURNS:g} turn)",
-                                                "units": "1"})
     data["n_seeds"] = variable(("rung",), has.sum(axis=1), "n_seeds")
-    data["converged"] = variable(("rung",), np.int8(members(lambda d: float(d["converged"])).min(axis=1, initial=1,
-                                                                                                   where=has == 1)),
-                                 "converged")
-    data["wall_time"] = variable(("rung",), members(lambda d: float(d["wall_time"])).sum(axis=1), "wall_time")
-    data["observed_order"] = variable(("observable",), np.zeros(len(checked)), "observed_order")
+    data["converged"] = variable(("rung",), np.int8(pad.values(lambda d: float(d["converged"])).min(
+        axis=1, initial=1, where=has == 1)), "converged")
+    data["wall_time"] = variable(("rung",), pad.values(lambda d: float(d["wall_time"])).sum(axis=1), "wall_time")
+    dist = [max([abs(c.shift) for kk, c in zip(table["quantity"], table["cmp"]) if kk == k] or [0.0]) for k in shown]
+    data["observed_order"] = variable(("observable",), np.zeros(len(shown)), "observed_order")
     data["publication_distance"] = variable(("observable",), dist, "publication_distance")
     coords = {"rung": xr.Variable(("rung",), np.array([g[0].rsplit("-s", 1)[0] for g in groups], dtype=object),
                                   attrs=attrs("scene")),
@@ -563,38 +472,43 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                                                               "parameter": param}),
               "h": xr.Variable(("rung",), h, attrs={**attrs("h"), "definition": hname}),
               "member": variable(("member",), np.arange(has.shape[1]), "member"),
-              "observable": xr.Variable(("observable",), np.array(checked, dtype=object), attrs=attrs("observable"))}
+              "observable": xr.Variable(("observable",), np.array(shown, dtype=object), attrs=attrs("observable")),
+              "quantity": xr.Variable(("quantity",), np.array(quantities, dtype=object), attrs=attrs("quantity"))}
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"parameter": param, "refinement": hname, "publication_value": publication_value,
-                     "tolerance": tol, "status": status, "worst_distance": max(dist),
-                     "notes": "; ".join(f"{k}: {n}" for k, n in zip(checked, notes)),
-                     "paired": int(paired),
-                     "method": ("seed ensembles paired by seed: the mean relative change over all seeds plus its 95 "
-                                "% Student-t bound within the tolerance; the seeds that changed their final state are "
-                                "listed apart" if paired
-                                else f"seed ensembles: rungs agree when their means differ by at most the tolerance "
-                                f"plus {Z_AGREE:g} combined standard errors")})
+                     "tolerance": tol, "distribution_tolerance": dist_tol, "status": status,
+                     "worst_distance": max(dist) if dist else 0.0, "notes": "; ".join(notes),
+                     "paired": int(bool(fig_cfg.get("paired", False))),
+                     "method": (f"seed ensembles, two questions: the local relations of the regular helix "
+                                f"({', '.join(RELATION_KEYS)}; analysis.local_relations) within {100 * tol:g} % and "
+                                f"the distribution of final states ({', '.join(STATE_KEYS)}) within "
+                                f"{100 * dist_tol:g} % of every finer rung; each shift of the ensemble mean decided "
+                                "by its 95 % bound, with the resolution at 95 % power and the Anderson-Darling "
+                                "k-sample p-value stated (analysis.distributions)")})
     return ds
+
+
+def _or_nan(v) -> float:
+    return math.nan if v is None else float(v)
 
 
 def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
     """Raise ConvergenceError if the check failed (or was inconclusive and the
     config says that fails too); return a one-line summary otherwise."""
     status = ds.attrs["status"]
-    line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g} is "
-            + ", ".join(f"{k} {100 * d:.3g} %" for k, d in zip(ds["observable"].values,
-                                                                ds["publication_distance"].values))
-            + (" mean change seed by seed to the finer rungs (tolerance " if ds.attrs.get("paired") else
-               " from the finest rung's ensemble mean (tolerance " if "has_member" in ds else
-               " from the extrapolated limit (tolerance ")
-            + f"{100 * ds.attrs['tolerance']:g} %"
-            + (" + the 95 % bound)" if ds.attrs.get("paired") else f" + {Z_AGREE:g} combined s.e.)"
-               if "has_member" in ds else ")")
-            + f": {status}")
-    if status == "fail" or (status.startswith("inconclusive") and on_inconclusive == "fail"):
+    if "quantity" in ds.coords:
+        line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g}, local relations "
+                f"(tolerance {100 * ds.attrs['tolerance']:g} %) and final states (tolerance "
+                f"{100 * ds.attrs['distribution_tolerance']:g} %) against every finer rung: {status}")
+    else:
+        line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g} is "
+                + ", ".join(f"{k} {100 * d:.3g} %" for k, d in zip(ds["observable"].values,
+                                                                    ds["publication_distance"].values))
+                + f" from the extrapolated limit (tolerance {100 * ds.attrs['tolerance']:g} %): {status}")
+    word = verdict_word(status)
+    if word == "fail" or (word == "inconclusive" and on_inconclusive == "fail"):
         raise ConvergenceError(line)
     return line
-
 
 
 _H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w": r"$h = 1/k_w$ [$R^3/EI$]",
@@ -602,69 +516,74 @@ _H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w
 
 
 def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> None:
-    """A paired ladder: each seed's values joined across the rungs; seeds whose final state
-    differs from the publication rung's circled."""
+    """A paired ladder (every rung starts a seed from the same rod): each seed's values joined
+    across the rungs, so that a seed that moves to a neighbouring equilibrium shows."""
     seeds, v = ds["member_seed"].values, ds[f"{k}_member"].values
     for s in np.unique(seeds[has]):
         at = [(h[i], v[i, list(seeds[i]).index(s)]) for i in range(len(h)) if s in seeds[i][has[i]]]
         ax.plot(*zip(*at), "-", **P.SEEDS, lw=0.5, zorder=1)
-    moved = (ds["state_changed_member"].values == 1) & has
-    if moved.any():
-        ax.plot(np.broadcast_to(h[:, None], has.shape)[moved], v[moved], "o", ms=6, mfc="none", mec=P.MARK["color"],
-                mew=0.9, label="seed in another final state")
 
 
 def plot(ds: xr.Dataset):
-    """One panel per observable against the refinement variable h (log axis): the
-    rungs, the Richardson limit, the tolerance band about it and the publication rung."""
-    obs = [k for k in OBSERVABLES if k in ds]
-    fig, axes = P.plt.subplots(1, len(obs), figsize=(min(7.0, 2.2 * len(obs) + 0.4), 3.0), squeeze=False,
-                               label=ds.attrs["title"])
+    """One panel per quantity against the refinement variable h (log axis). Single runs: the
+    rungs, the Richardson limit and the tolerance band about it. Ensembles: the single seeds,
+    the means with their 95 % intervals, the tolerance band about the finest rung's mean, and
+    per panel the largest shift of the publication rung with its resolution."""
+    ensemble = "quantity" in ds.coords
+    obs = [k for k in ((*STATE_KEYS, *RELATION_KEYS) if ensemble else OBSERVABLES) if k in ds]
+    ncol = min(len(obs), 3)
+    nrow = math.ceil(len(obs) / ncol)
+    fig, axes = P.plt.subplots(nrow, ncol, figsize=(7.0, 2.7 * nrow + 0.9), squeeze=False, label=ds.attrs["title"])
     h = ds["h"].values
     param = ds.attrs["parameter"]
     pub = np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9)
-    tol = float(ds.attrs["tolerance"])
     checked = list(ds["observable"].values)
-    ensemble = "has_member" in ds
-    for ax, k in zip(axes[0], obs):
+    for ax, k in zip(axes.flat, obs):
         f = ds[k].values
+        tol = float(ds.attrs["distribution_tolerance"] if ensemble and k in STATE_KEYS else ds.attrs["tolerance"])
         ax.plot(h, f, "-", color="0.6", lw=0.7)
         if ensemble:
-            has = ds["has_member"].values == 1
+            has = ds[f"{k}_has"].values == 1
             hm = np.broadcast_to(h[:, None], has.shape)
-            if k == "pitch":        # a member with less than a turn has no pitch (0)
-                has = has & (ds[f"{k}_member"].values > 0)
             ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, **P.SEEDS, label="single seeds")
-            if "state_changed_member" in ds:
+            if ds.attrs.get("paired"):
                 _seed_lines(ax, ds, k, h, has)
-            ax.errorbar(h, f, yerr=Z_AGREE * ds[f"{k}_sem"].values, fmt="none", ecolor="black", elinewidth=0.9,
-                        capsize=2.5)
-        ax.plot(h, f, "o", ms=4.5, **P.SIM, label="ensemble means $\\pm$ 2 s.e." if ensemble else "rungs")
+            ax.errorbar(h, f, yerr=distributions.Z_ALPHA * ds[f"{k}_sem"].values, fmt="none", ecolor="black",
+                        elinewidth=0.9, capsize=2.5)
+        ax.plot(h, f, "o", ms=4.5, **P.SIM, label="ensemble means, 95 % interval" if ensemble else "rungs")
         ax.plot(h[pub], f[pub], "s", ms=9, mfc="none", mec="tab:green", mew=1.4, label="publication setting")
-        if k in checked:
-            i = checked.index(k)
-            lim = float(ds[f"{k}_limit"])
+        lim = float(ds[f"{k}_limit"]) if f"{k}_limit" in ds else None
+        if lim is not None:
             ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else "Richardson limit")
             ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
-                       label=rf"{'finest' if ensemble else 'limit'} $\pm$ {100 * tol:g} %")
+                       label=rf"{'finest' if ensemble else 'limit'} $\pm$ tolerance")
+        if ensemble:
+            q = list(ds["quantity"].values).index(k)
+            codes = ds["cmp_verdict_code"].values[:, q]
+            rows = np.flatnonzero(codes > 0)
+            if rows.size:
+                j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
+                word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])]
+                ax.set_title(f"shift {100 * ds['cmp_shift'].values[j, q]:+.2g} %, res. "
+                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word} {100 * tol:g} %", fontsize=7.5)
+            else:
+                ax.set_title("not compared (fewer than two values)", fontsize=7.5)
+        elif k in checked:
+            i = checked.index(k)
             order = float(ds.observed_order[i])
             dist = f"{100 * float(ds.publication_distance[i]):.2g} %"
-            if ds.attrs.get("paired"):       # short: three panels side by side
-                ax.set_title(f"mean paired change {dist}", fontsize=7.5)
-            else:
-                head = ("ensembles" if ensemble else f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable")
-                ax.set_title(f"{head}, pub. off by {dist}", fontsize=7.5)
+            head = f"$p = {order:.2f}$" if order > 0 else "$p$ not measurable"
+            ax.set_title(f"{head}, pub. off by {dist}", fontsize=7.5)
         else:
             ax.set_title("not checked (not every rung is a helix)", fontsize=7.5)
         ax.set_xscale("log")
         P.plain_log_ticks(ax.xaxis)
         ax.set_xlabel(_H_LABEL[param])
         ax.set_ylabel(label(k))
+    for ax in list(axes.flat)[len(obs):]:
+        ax.set_visible(False)
     head = f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
     lines = _title_lines(head, ds.attrs["status"])
     fig.suptitle("\n".join(lines + [P.params_text(ds, ("L", "load", "k_fr"))]), fontsize=9)
-    if ensemble:        # five entries: two rows
-        P.bottom_legend(fig, axes[0][0], bottom=0.16, ncol=3)
-    else:
-        P.bottom_legend(fig, axes[0][0], bottom=0.08)
+    P.bottom_legend(fig, axes[0][0], bottom=0.16 / nrow if ensemble else 0.08, ncol=3 if ensemble else None)
     return fig

@@ -1,0 +1,118 @@
+"""Two ensembles of one quantity compared: is the shift of the mean within a tolerance, and
+what would the ensembles have seen (issue 43).
+
+A rung of a convergence ladder is an ensemble of seeds, and with friction each seed's final
+state is one draw from a distribution of neighbouring equilibria. What is well posed is whether
+two rungs draw from the same distribution, not whether a seed keeps its state. For ensembles a
+(the publication rung) and b (a finer rung) of one quantity x:
+
+* shift   d = mean(a)/mean(b) - 1, relative to the finer rung;
+* its standard error e = sqrt(s_a^2/n_a + (mean(a)/mean(b))^2 s_b^2/n_b) / |mean(b)| (Welch, to
+  first order in the errors; the seeds of the two rungs are independent draws of their
+  distributions, so no pairing is assumed);
+* the 95 % bound |d| +- z e with z = 1.959964 (two-sided 5 %);
+* the **resolution** r = (z + z_pow) e, z_pow = 1.644854: the smallest shift of the mean that a
+  two-sided 5 % test would have detected with probability 95 % (the power of the ensembles);
+* the **Anderson-Darling k-sample test** of scipy (scipy.stats.anderson_ksamp, its p-value
+  floored at 0.001 and capped at 0.25 by scipy): a difference of shape that the means miss.
+
+Decided against a tolerance tol (relative):
+
+* ``within``: |d| + z e <= tol (the shift is bounded inside the tolerance at 95 %) and r <= tol
+  (a shift of the size of the tolerance would have been seen);
+* ``beyond``: |d| - z e > tol (the shift exceeds the tolerance at 95 %);
+* ``undecided`` otherwise, with the seeds per ensemble that would decide:
+  n max((z e / (tol - |d|))^2, (r / tol)^2) below the tolerance, n (z e / (|d| - tol))^2 above
+  (errors shrink as 1/sqrt(n)); infinite at |d| = tol.
+
+Tests on constructed ensembles (tests/test_distributions.py): two draws of one distribution
+are ``within`` and pass the AD test at the stated rate; a shift of the resolution is detected
+at the stated power; a shift of twice the tolerance is ``beyond``.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+ALPHA = 0.05        # two-sided size of the tests
+POWER = 0.95        # the power at which the resolution is stated
+Z_ALPHA = 1.959963984540054     # norm.ppf(1 - ALPHA/2)
+Z_POWER = 1.6448536269514722    # norm.ppf(POWER)
+WITHIN, BEYOND, UNDECIDED = "within", "beyond", "undecided"
+
+
+@dataclass(frozen=True)
+class Comparison:
+    n_a: int
+    n_b: int
+    mean_a: float
+    mean_b: float
+    shift: float         # mean_a/mean_b - 1
+    se: float            # its standard error
+    resolution: float    # shift detected with POWER at ALPHA
+    p_ad: float          # Anderson-Darling k-sample p-value (scipy's range 0.001-0.25); 1 if both constant
+    verdict: str         # WITHIN, BEYOND or UNDECIDED against the tolerance
+    tolerance: float
+    seeds_needed: float  # per ensemble to decide (0 when decided; inf when |shift| = tolerance)
+
+    @property
+    def bound(self) -> float:
+        """|shift| + z se: the largest shift compatible with the ensembles at 95 %."""
+        return abs(self.shift) + Z_ALPHA * self.se
+
+    def text(self, unit: str = "%") -> str:
+        scale = 100.0 if unit == "%" else 1.0
+        need = ("" if self.verdict != UNDECIDED else
+                "; no finite number of seeds decides (the shift equals the tolerance)" if math.isinf(self.seeds_needed)
+                else f"; about {math.ceil(self.seeds_needed)} seeds per rung would decide")
+        return (f"shift {scale * self.shift:+.2g} +- {scale * self.se:.2g} {unit} (95 % bound {scale * self.bound:.2g} "
+                f"{unit}), resolution {scale * self.resolution:.2g} {unit}, AD p = {self.p_ad:.3g}, n = {self.n_a}/"
+                f"{self.n_b}: {self.verdict} {scale * self.tolerance:g} {unit}{need}")
+
+
+def anderson_p(a: np.ndarray, b: np.ndarray) -> float:
+    """The AD k-sample p-value of two samples (1 where both are one constant value)."""
+    from scipy.stats import anderson_ksamp
+
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if np.ptp(np.concatenate([a, b])) == 0.0:
+        return 1.0
+    with warnings.catch_warnings():     # scipy warns when it floors or caps the p-value
+        warnings.simplefilter("ignore")
+        return float(anderson_ksamp([a, b]).pvalue)
+
+
+def compare(a, b, tolerance: float) -> Comparison:
+    """Ensemble a (publication rung) against b (finer rung), relative to b (module docstring).
+    Needs at least two values in each."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if a.size < 2 or b.size < 2:
+        raise ValueError(f"compare needs at least two values per ensemble, got {a.size} and {b.size}")
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        raise ValueError("compare: non-finite values in an ensemble")
+    ma, mb = float(a.mean()), float(b.mean())
+    if mb == 0.0:
+        raise ValueError("compare: the finer ensemble's mean is 0; a relative shift is not defined")
+    ratio = ma / mb
+    se = math.sqrt(a.var(ddof=1) / a.size + ratio**2 * b.var(ddof=1) / b.size) / abs(mb)
+    shift = ratio - 1.0
+    resolution = (Z_ALPHA + Z_POWER) * se
+    n = max(a.size, b.size)
+    if abs(shift) - Z_ALPHA * se > tolerance:
+        verdict, need = BEYOND, 0.0
+    elif abs(shift) + Z_ALPHA * se <= tolerance and resolution <= tolerance:
+        verdict, need = WITHIN, 0.0
+    else:
+        verdict = UNDECIDED
+        margin = tolerance - abs(shift)
+        if margin > 0:
+            need = n * max((Z_ALPHA * se / margin) ** 2, (resolution / tolerance) ** 2)
+        elif margin < 0:
+            need = n * (Z_ALPHA * se / margin) ** 2
+        else:
+            need = math.inf
+    return Comparison(int(a.size), int(b.size), ma, mb, shift, se, resolution, anderson_p(a, b), verdict,
+                      float(tolerance), need)

@@ -1,0 +1,78 @@
+"""Local relations of the helix on the wall: what holds in whichever equilibrium a seed reached.
+
+With friction a rod has many neighbouring equilibria, and a change of any numerical parameter
+moves a seed from one to another; its final state is no per-seed question. The relations below
+hold at every point of the regular helix whatever the state, so they are properties of the
+discretisation and converge seed by seed (issue 43):
+
+* ``decay_ratio``: the bulk decay rate d(1/|F_z|)/ds over the simple model's k_fr R/(4EI)
+  (regions.analyse; friction only);
+* ``wall_force_ratio``: the wall force per length K over its lowest order R F_z^2/(4EI), the
+  median over the regular helix (exact constant pitch: 1/(1 - R^2 w^2), 1.14 at F = 0.25);
+* ``pitch_ratio``: |dphi/ds| over the pitch rate w(F) of a torque-free helix on the wall at the
+  local force, 2 EI w^2 sqrt(1 - R^2 w^2) = |F_z| (theory.helix_pitch_rate), the median over
+  the regular helix.
+
+Where the helix is regular: with friction the bulk of regions.detect less half a smoothing
+window at each end (where the friction is at its Coulomb limit and mostly axial); without
+friction the middle half of the longest stretch of links on the wall. Dimensions: every ratio
+is a number (K in EI/R^3 over R F^2/EI; w in 1/R). Test twin: tests/test_local_relations.py
+builds a helix with a prescribed F(s) and reads back the rate, K and w it was built with.
+
+Post-processing only: reads datasets, never imports the simulator.
+"""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .. import theory
+from . import regions
+from .measure import force_at_links, helix_runs
+
+RELATIONS = ("decay_ratio", "wall_force_ratio", "pitch_ratio")
+#: the least links of regular helix a median needs
+MIN_LINKS = 8
+
+
+def regular_links(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> np.ndarray:
+    """Indices of the links (from the loaded end) where the helix is regular (module docstring)."""
+    a = sim.attrs
+    contact = np.asarray(sim["contact"].values) > 0
+    s_link = np.asarray(sim["s_link"].values, dtype=float)
+    if float(a["k_fr"]) > 0.0:
+        an = analysis or regions.analyse(sim)
+        if not an.regions.has_bulk:
+            return np.zeros(0, dtype=int)
+        edge = 0.5 * regions.WINDOW_R * float(a["R"])
+        keep = (s_link >= an.regions.s_bulk_start + edge) & (s_link <= an.regions.s_bulk_end - edge) & contact
+        return np.flatnonzero(keep)
+    runs = helix_runs(contact)
+    if not runs:
+        return np.zeros(0, dtype=int)
+    run = max(runs, key=len)
+    q = run.size // 4
+    return run[q:run.size - q]
+
+
+def measure(sim: xr.Dataset) -> dict[str, float | None]:
+    """The relations of one scene dataset; None where one is not defined (no regular helix of
+    MIN_LINKS links, no friction for the decay ratio)."""
+    a = sim.attrs
+    R, EI = float(a["R"]), float(a["EI"])
+    an = regions.analyse(sim) if float(a["k_fr"]) > 0.0 else None
+    out: dict[str, float | None] = {k: None for k in RELATIONS}
+    if an is not None and an.bulk is not None and an.model > 0:
+        out["decay_ratio"] = an.bulk.rate / an.model
+    idx = regular_links(sim, an)
+    if idx.size < MIN_LINKS:
+        return out
+    F = force_at_links(sim)[idx]
+    K = np.asarray(sim["wall_force_density"].values, dtype=float)[idx]
+    out["wall_force_ratio"] = float(np.median(K * 4.0 * EI / (R * F**2)))
+    s_link = np.asarray(sim["s_link"].values, dtype=float)[idx]
+    s_h = np.asarray(sim["s_helix"].values, dtype=float)
+    if s_h.size >= 2:
+        w = np.interp(s_link, s_h, np.abs(np.asarray(sim["dphi_ds"].values, dtype=float)))
+        out["pitch_ratio"] = float(np.median(w / theory.helix_pitch_rate(F, R, EI)))
+    return out
