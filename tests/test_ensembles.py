@@ -110,10 +110,6 @@ def test_a_single_seed_per_length_builds_the_dataset_as_before():
     assert ds["F_transmitted"].values.tolist() == [0.10, 0.08]
 
 
-# -- statistical convergence (figures/convergence.py) ----------------------------------------------
-from confined_rod.analysis.figures import convergence  # noqa: E402
-
-
 # -- the jamming map (figures/jamming_map.py) -------------------------------------------------------
 from confined_rod.analysis.figures import jamming_map  # noqa: E402
 
@@ -259,6 +255,7 @@ def test_a_figure_read_by_another_must_exist_and_be_of_the_right_kind():
 
 # -- ensemble ladders (figures/convergence.py): local relations and distributions of final states ------
 from confined_rod.analysis import distributions  # noqa: E402
+from confined_rod.analysis.figures import convergence  # noqa: E402
 
 
 def _ladder(states, relations=(1.1, 1.1, 1.1), n_seeds=30, spread=0.03, saddle=None, tol=0.02, dist_tol=0.03):

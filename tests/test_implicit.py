@@ -270,8 +270,11 @@ def test_contact_model_puts_ends_the_step_carries_into_the_wall_in_contact():
 @pytest.mark.parametrize("L", [40.0, 80.0])
 def test_active_set_model_changes_the_work_not_the_path(L, monkeypatch):
     """The re-solved Newton direction changes how Newton gets to each step's solution, not the
-    solution: |F_z(L)| of a frictional helix the same to 1e-5 (measured 2e-8 at L/R = 40 and
-    4e-7 at 80: the steps' Newton tolerance), fewer gradients."""
+    solution: |F_z(L)| of a frictional helix the same to 1e-4, fewer gradients. With friction the
+    equilibrium is a set (stuck links may sit anywhere their friction holds), and a path changed
+    at the Newton tolerance lands elsewhere in it: measured 2.7e-5 at L/R = 40 with the continuous
+    start of seed 1 (2e-8 with the old per-link start), while another equilibrium (half a turn
+    more or less) would move |F_z(L)| by per cent."""
     from confined_rod.sim import observables
     from confined_rod.sim.solvers import implicit
 
@@ -285,7 +288,7 @@ def test_active_set_model_changes_the_work_not_the_path(L, monkeypatch):
         out.append((F, st.work["gradients"], st.work.get("active_set_models", 0)))
     (F0, g0, m0), (F1, g1, m1) = out
     assert m0 == 0 and m1 > 0
-    assert F1 == pytest.approx(F0, rel=1e-5)
+    assert F1 == pytest.approx(F0, rel=1e-4)
     assert g1 < g0
 
 

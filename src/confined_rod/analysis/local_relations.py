@@ -72,7 +72,8 @@ def measure(sim: xr.Dataset) -> dict[str, float | None]:
     out["wall_force_ratio"] = float(np.median(K * 4.0 * EI / (R * F**2)))
     s_link = np.asarray(sim["s_link"].values, dtype=float)[idx]
     s_h = np.asarray(sim["s_helix"].values, dtype=float)
-    if s_h.size >= 2:
-        w = np.interp(s_link, s_h, np.abs(np.asarray(sim["dphi_ds"].values, dtype=float)))
-        out["pitch_ratio"] = float(np.median(w / theory.helix_pitch_rate(F, R, EI)))
+    carried = F * R**2 / EI < theory.HELIX_F_MAX        # a helix on the wall carries at most this force
+    if s_h.size >= 2 and carried.sum() >= MIN_LINKS:
+        w = np.interp(s_link[carried], s_h, np.abs(np.asarray(sim["dphi_ds"].values, dtype=float)))
+        out["pitch_ratio"] = float(np.median(w / theory.helix_pitch_rate(F[carried], R, EI)))
     return out

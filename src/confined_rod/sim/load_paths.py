@@ -61,9 +61,9 @@ def relax_at(scene: Scene, st: RunState) -> RunState:
 
 def nudge(scene: Scene, st: RunState, step: int) -> None:
     """Continuation: displace the link centres of the previous equilibrium by the scene's
-    perturbation (a continuous function of the height, seeded per load step; in x only for the planar protocol), so that an
-    equilibrium that has become unstable is left rather than tracked: without it the
-    sweep stays on a saddle, whose instability grows from round-off only."""
+    perturbation (a continuous function of the height, seeded per load step; in x only for the
+    planar protocol), so that an equilibrium that has become unstable is left rather than
+    tracked: without it the sweep stays on a saddle, whose instability grows from round-off only."""
     z = (np.arange(scene.N) + 0.5) * scene.l0
     d = perturbation.lateral(z, scene.L, scene.R, scene.perturbation, [scene.seed, step],
                              stream=perturbation.NUDGE)

@@ -242,8 +242,9 @@ class Scene:
         consecutive ends, so every bond starts at its rest length (a chain of arcs would be
         prestressed by the chord-arc difference, ~ k l0^3 w^4 R^2/24 per bond, which static
         friction would then lock in). The seeded perturbation moves the target of each end
-        laterally by d/2 (d at the arc length of each end from the support); the chain is then built end to end with chords of exactly l0 towards
-        those targets, so the start is perturbed and still stress-free."""
+        laterally by d/2 (d at the arc length of each end from the support); the chain is then
+        built end to end with chords of exactly l0 towards those targets, so the start is
+        perturbed and still stress-free."""
         from ..theory import HELIX_F_MAX, helix_pitch_rate
 
         rho = self.R - self.perturbation
