@@ -79,7 +79,6 @@ OPTIONS = {
 
 
 ENSEMBLES = True
-Z_AGREE = 2.0   # rungs agree within the tolerance plus this many combined standard errors
 
 
 class ConvergenceError(RuntimeError):
@@ -104,11 +103,6 @@ def validate(figure, fig_cfg, built, publication_value=None) -> None:
     if pub is not None and not any(abs(v - pub) <= 1e-9 * abs(pub) for v in vals):
         raise ConfigError(f"figures.{figure}.scenes: the ladder over {p} ({', '.join(f'{v:g}' for v in vals)}) "
                           f"must contain the publication value {p} = {pub:g}")
-
-
-#: an ensemble ladder draws (and checks) the pitch only where it is defined on every rung it reads
-PITCH_PANEL = ("the bulk pitch (a panel only where every rung the verdict reads is a helix of at least one turn; "
-               "else the pitch is not checked and not drawn)")
 
 
 def caption(figure, fig_cfg, built, publication_value=None) -> str:
