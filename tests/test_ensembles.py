@@ -317,3 +317,20 @@ def test_a_seed_on_a_saddle_is_left_out_and_named():
     assert ds.attrs["status"].startswith("pass"), ds.attrs["status"]
     assert int(ds["n_seeds"].values[0]) == 29
     assert ds.attrs["left_out"].startswith("l0_1-s5 (converged on a saddle")
+
+
+def test_the_manuscript_quotes_an_ensemble_ladder_by_its_seeds_shifts_and_resolutions():
+    from confined_rod.claims.manuscript import Macros, ensemble_ladder_macros
+
+    ds = _ladder((0.27, 0.27, 0.30))
+    m = Macros()
+    ensemble_ladder_macros("conv_x", ds, m)
+    plain = {k.split("@", 1)[1]: v[2] for k, v in m.items.items()}
+    assert plain["conv_x.seeds"] == "30"
+    q = list(ds["quantity"].values).index("F_transmitted")
+    shift = 100 * ds["cmp_shift"].values[2, q]
+    assert shift < -5                                   # 0.27 against 0.30: the publication rung lies 10 % low
+    assert plain["conv_x.shift.F_transmitted"].startswith(format(shift, "+.2g"))
+    assert float(plain["conv_x.resolution.F_transmitted"]) == pytest.approx(
+        100 * ds["cmp_resolution"].values[2, q], rel=0.05)
+    assert {f"conv_x.shift.{k}" for k in ("decay_ratio", "L_z")} <= set(plain)
