@@ -71,6 +71,12 @@ def test_different_states_make_the_check_inconclusive_and_say_why():
     assert "inconclusive" in studies.check(ds, "conv", on_inconclusive="warn")
     wound = ladder(lambda h: 0.1 * (1 + 0.02 * h), turns=(2.0, 2.0, 3.0))
     assert "winding differs" in wound.attrs["status"]
+    # the figure never draws the planar rung's pitch (0) as a value
+    fig = studies.plot(ds.assign_attrs(title="t"))
+    pitch_ax = next(ax for ax in fig.axes if ax.get_visible() and "not helical" in ax.get_title())
+    drawn = np.concatenate([ln.get_xdata() for ln in pitch_ax.get_lines()])
+    assert 1.0 not in drawn and set(drawn) == {0.5, 0.25}
+    assert "rung(s) 1 not helical" in pitch_ax.get_title()
 
 
 def test_bulk_pitch_of_a_helix():

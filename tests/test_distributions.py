@@ -76,3 +76,26 @@ def test_refuses_bad_input():
         D.compare([1.0], [1.0, 2.0], 0.1)
     with pytest.raises(ValueError, match="non-finite"):
         D.compare([1.0, np.nan], [1.0, 2.0], 0.1)
+
+
+def test_pairing_removes_the_spread_a_seed_carries_on_both_rungs():
+    """Eight seeds spread by 10 % between them, each moved by +0.5 % (+- 0.1 %) on the finer rung:
+    unpaired the shift cannot be bounded within 2 %; paired it is, and its error is the spread of
+    the differences (0.1 %/sqrt(8) about), not of the seeds."""
+    rng = np.random.default_rng(3)
+    a = 0.27 * (1 + 0.10 * rng.standard_normal(8))
+    b = a * (1 + 0.005 + 0.001 * rng.standard_normal(8))
+    unpaired = D.compare(a, b, 0.02)
+    paired = D.compare(a, b, 0.02, paired=True)
+    assert unpaired.verdict == D.UNDECIDED
+    assert paired.verdict == D.WITHIN and paired.paired
+    assert paired.shift == pytest.approx(unpaired.shift, abs=1e-15)      # pairing never moves the shift
+    assert paired.shift == pytest.approx(-0.005, abs=0.002)
+    assert paired.se == pytest.approx(0.001 / np.sqrt(8), rel=0.6)
+    assert "8 paired seeds" in paired.text()
+    # a seed that moves to another equilibrium (its value 30 % off) widens the paired error
+    b2 = b.copy()
+    b2[0] *= 1.3
+    assert D.compare(a, b2, 0.02, paired=True).se > 5 * paired.se
+    with pytest.raises(ValueError, match="one value per seed"):
+        D.compare(a, b[:7], 0.02, paired=True)

@@ -74,3 +74,35 @@ def test_a_run_that_stops_on_a_known_saddle_says_so(kw, flag):
     assert (run_checks.status(ds) == "converged") == (flag == 0)
     if flag:
         assert run_checks.not_at_equilibrium({"s": ds}) == [f"s ({run_checks.SADDLE_STATUS[flag]})"]
+
+
+@pytest.mark.parametrize("kw", [
+    # the paper's protocol with a start of 1e-9 R: the residual test stops on the straight rod
+    dict(perturbation=1e-9, load=0.25, k_fr=0.0),
+    # pinned ends at 1.2 x Euler's load
+    dict(ends="pinned", load=1.2 * np.pi**2 / 400, k_fr=0.0),
+])
+def test_a_run_that_stops_on_a_saddle_is_kicked_and_relaxed_again(kw):
+    """saddle_kicks: the state a run stopped on is a known saddle, so it is displaced by the kick
+    and relaxed again: the run ends buckled, off the saddle, and counts its kicks; without it the
+    run ends on the saddle (the test above)."""
+    from confined_rod.analysis.measure import n_turns
+    from confined_rod.sim.observables import shape_measures
+
+    stuck = simulate(Scene(name="s", L=20, **kw), progress=False)
+    ds = simulate(Scene(name="s", L=20, saddle_kicks=3, **kw), progress=False)
+    assert int(stuck.saddle) == 1 and int(ds.saddle) == 0
+    assert ds.attrs["status"] == "converged"
+    assert 1 <= ds.attrs["work_saddle_kicks"] <= 3 and stuck.attrs["work_saddle_kicks"] == 0
+    deflection, _ = shape_measures(np.stack([ds.x, ds.y, ds.z], axis=1), 1.0)
+    assert deflection > 0.5                              # buckled, at the wall or near it
+    if kw.get("ends") != "pinned":                       # free ends at 0.25 EI/R^2: the wall helix
+        assert n_turns(ds) > 1.0
+        assert float(ds.L_z) < float(stuck.L_z) - 1.0
+
+
+def test_saddle_kicks_is_a_count():
+    with pytest.raises(SceneError, match="'saddle_kicks'"):
+        Scene(name="s", L=20, saddle_kicks=-1)
+    with pytest.raises(SceneError, match="'saddle_kicks'"):
+        Scene(name="s", L=20, saddle_kicks=1.5)

@@ -1,5 +1,6 @@
 """Local relations (analysis/local_relations.py) read back from constructed helices whose
 decay rate, wall force and pitch rate are prescribed (link 0 and s = 0 at the loaded end)."""
+import numpy as np
 import pytest
 
 from confined_rod.analysis import local_relations as LR
@@ -40,4 +41,58 @@ def test_frictionless_middle_half():
 
 def test_no_helix_no_relation():
     ds = constructed_helix(tip=97.0)
-    assert LR.measure(ds) == {"decay_ratio": None, "wall_force_ratio": None, "pitch_ratio": None}
+    assert LR.measure(ds) == {"decay_ratio": None, "wall_force_ratio": None, "pitch_ratio": None,
+                              "helix_balance": None}
+
+
+def _balance(ds, c_K, c_w):
+    """The expected K / (rho w^2 (F/c - EI w^2)) of a constructed helix (rho = R = EI = 1) over its
+    regular links: K = c_K F^2/4 at the link's F, w = c_w w(F)."""
+    from confined_rod import theory
+    from confined_rod.analysis.measure import force_at_links
+
+    F = force_at_links(ds)[LR.regular_links(ds)]
+    w = c_w * theory.helix_pitch_rate(F, 1.0, 1.0)
+    c = np.sqrt(1 - w**2)
+    return np.median(c_K * F**2 / 4 / (w**2 * (F / c - w**2)))
+
+
+def test_helix_balance_is_one_for_a_torque_free_helix_and_reads_back_any_other():
+    """A torque-free helix (w = w(F), K = rho w^2 (F/c - EI w^2) = EI rho w^4) balances exactly:
+    built with that K it reads 1 to the joint-averaging of F. Built with another K, it reads the
+    ratio the construction implies (the relation is a measure, not a constant)."""
+    from confined_rod import theory
+    from confined_rod.analysis.measure import force_at_links
+
+    ds = constructed_helix(k_fr=0.0, c_w=1.0, tip=10.0, L=90.0)
+    idx = LR.regular_links(ds)
+    F = force_at_links(ds)
+    w = theory.helix_pitch_rate(F, 1.0, 1.0)
+    K = np.where(ds.contact.values == 1, w**4, 0.0)               # EI rho w^4, the torque-free wall force
+    ds["wall_force_density"] = ("s_link", K)
+    assert LR.measure(ds)["helix_balance"] == pytest.approx(1.0, abs=1e-12)
+    other = constructed_helix(k_fr=0.8, c_K=1.1, c_w=0.8)
+    # K of the frictional construction is the friction per link over k_fr, c_K R F^2/(4EI) at the
+    # joints' mean force up to (dF/F)^2 ~ 1e-5 (as for wall_force_ratio above)
+    assert LR.measure(other)["helix_balance"] == pytest.approx(_balance(other, 1.1, 0.8), rel=1e-4)
+    assert idx.size >= LR.MIN_LINKS
+
+
+def test_helix_balance_holds_for_a_helix_with_locked_torque():
+    """A helix wound tighter than the torque-free one (w = 1.2 w(F)) carries a torque tau; its
+    wall force from the Kirchhoff relations, K = (EI rho^2 w^4 - w tau)/rho with tau =
+    rho^2 w (2 EI w^2 - F/c) (analysis/torque.py), balances: the ratio is 1, while the ratio to
+    the torque-free wall force R F^2/(4EI) is not."""
+    from confined_rod import theory
+    from confined_rod.analysis import torque
+    from confined_rod.analysis.measure import force_at_links
+
+    ds = constructed_helix(k_fr=0.0, c_w=1.2, tip=10.0, L=90.0)
+    F = force_at_links(ds)
+    w = 1.2 * theory.helix_pitch_rate(F, 1.0, 1.0)
+    tau = torque.helix_torque(np.ones_like(F), w, F, 1.0)
+    K = np.where(ds.contact.values == 1, torque.helix_wall_force(1.0, w, tau, 1.0), 0.0)
+    ds["wall_force_density"] = ("s_link", K)
+    got = LR.measure(ds)
+    assert got["helix_balance"] == pytest.approx(1.0, abs=1e-9)
+    assert abs(got["wall_force_ratio"] - 1.0) > 0.05

@@ -81,7 +81,8 @@ def test_shared_scenes_are_simulated_once():
     # every convergence ladder's publication rung is a scene simulated anyway
     assert pipeline.canonical_scene(config, "conv_l0", "l0_05-s0") == ("fig6_FonL", "L80-s0")
     assert pipeline.canonical_scene(config, "conv_l0", "l0_05-s7")[0] == "conv_l0"       # beyond Fig 6's seeds
-    assert pipeline.canonical_scene(config, "conv_tol", "tol5") == ("fig6_FonL", "L80-s0")
+    assert pipeline.canonical_scene(config, "conv_tol", "tol5-s0") == ("fig6_FonL", "L80-s0")
+    assert pipeline.canonical_scene(config, "conv_k_ph", "k10000-s3") == ("fig6_FonL", "L80-s3")
     assert pipeline.canonical_scene(config, "conv_k_ph_frictionless", "k10000") == ("conv_l0_frictionless", "l0_05")
     # the jamming map's points at the paper's load and friction are Fig 6's seeds
     assert pipeline.canonical_scene(config, "jamming_map", "L80-F0p25-k0p8-s2") == ("fig6_FonL", "L80-s2")

@@ -97,6 +97,8 @@ SCENE_PARAMETERS = [
            {"type": "number", "exclusiveMinimum": 1}),
     _param("seed", r"\mathrm{seed}", "random seed of the perturbation", "1",
            {"type": "integer", "minimum": 0, "maximum": limits.SEED_MAX}),
+    _param("saddle_kicks", "n_{kick}", "how often a run that stops on a known saddle is kicked by `kick` and relaxed "
+           "again; 0: it ends there, flagged", "1", {"type": "integer", "minimum": 0}),
     _param("l0", "l_0", "link length", "R", _POS_OR_DEFAULT),
     _param("k_ph", "k_{ph}", "physical stretching stiffness of the rod (bond constant k = k_ph/l0)", "EI R-2",
            _POS_OR_DEFAULT),

@@ -7,9 +7,14 @@ two rungs draw from the same distribution, not whether a seed keeps its state. F
 (the publication rung) and b (a finer rung) of one quantity x:
 
 * shift   d = mean(a)/mean(b) - 1, relative to the finer rung;
-* its standard error e = sqrt(s_a^2/n_a + (mean(a)/mean(b))^2 s_b^2/n_b) / |mean(b)| (Welch, to
-  first order in the errors; the seeds of the two rungs are independent draws of their
-  distributions, so no pairing is assumed);
+* its standard error e, to first order in the errors, either unpaired (Welch)
+  e = sqrt(s_a^2/n_a + (mean(a)/mean(b))^2 s_b^2/n_b) / |mean(b)|, or **paired** when the two
+  ensembles hold the same seeds and every seed starts from the same rod on both rungs (a
+  convergence ladder: sim/perturbation.py draws the start as one continuous rod per seed):
+  e = sd(a_i - (mean(a)/mean(b)) b_i) / sqrt(n) / |mean(b)| over the seeds i. Pairing never biases
+  the shift (the mean of the differences is the difference of the means); it removes the part of
+  the spread that a seed carries on both rungs (its equilibrium, where it keeps it), and a seed that
+  moves to another equilibrium simply adds its large difference to the spread;
 * the 95 % bound |d| +- z e with z = 1.959964 (two-sided 5 %);
 * the **resolution** r = (z + z_pow) e, z_pow = 1.644854: the smallest shift of the mean that a
   two-sided 5 % test would have detected with probability 95 % (the power of the ensembles);
@@ -57,6 +62,7 @@ class Comparison:
     verdict: str         # WITHIN, BEYOND or UNDECIDED against the tolerance
     tolerance: float
     seeds_needed: float  # per ensemble to decide (0 when decided; inf when |shift| = tolerance)
+    paired: bool = False  # se from the differences seed by seed (module docstring)
 
     @property
     def bound(self) -> float:
@@ -68,9 +74,10 @@ class Comparison:
         need = ("" if self.verdict != UNDECIDED else
                 "; no finite number of seeds decides (the shift equals the tolerance)" if math.isinf(self.seeds_needed)
                 else f"; about {math.ceil(self.seeds_needed)} seeds per rung would decide")
+        n = f"{self.n_a} paired seeds" if self.paired else f"n = {self.n_a}/{self.n_b}"
         return (f"shift {scale * self.shift:+.2g} +- {scale * self.se:.2g} {unit} (95 % bound {scale * self.bound:.2g} "
-                f"{unit}), resolution {scale * self.resolution:.2g} {unit}, AD p = {self.p_ad:.3g}, n = {self.n_a}/"
-                f"{self.n_b}: {self.verdict} {scale * self.tolerance:g} {unit}{need}")
+                f"{unit}), resolution {scale * self.resolution:.2g} {unit}, AD p = {self.p_ad:.3g}, {n}: "
+                f"{self.verdict} {scale * self.tolerance:g} {unit}{need}")
 
 
 def anderson_p(a: np.ndarray, b: np.ndarray) -> float:
@@ -85,19 +92,24 @@ def anderson_p(a: np.ndarray, b: np.ndarray) -> float:
         return float(anderson_ksamp([a, b]).pvalue)
 
 
-def compare(a, b, tolerance: float) -> Comparison:
+def compare(a, b, tolerance: float, paired: bool = False) -> Comparison:
     """Ensemble a (publication rung) against b (finer rung), relative to b (module docstring).
-    Needs at least two values in each."""
+    Needs at least two values in each; ``paired``: a[i] and b[i] are one seed (equal sizes)."""
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     if a.size < 2 or b.size < 2:
         raise ValueError(f"compare needs at least two values per ensemble, got {a.size} and {b.size}")
+    if paired and a.size != b.size:
+        raise ValueError(f"compare: paired ensembles need one value per seed in each, got {a.size} and {b.size}")
     if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
         raise ValueError("compare: non-finite values in an ensemble")
     ma, mb = float(a.mean()), float(b.mean())
     if mb == 0.0:
         raise ValueError("compare: the finer ensemble's mean is 0; a relative shift is not defined")
     ratio = ma / mb
-    se = math.sqrt(a.var(ddof=1) / a.size + ratio**2 * b.var(ddof=1) / b.size) / abs(mb)
+    if paired:
+        se = float(np.std(a - ratio * b, ddof=1)) / math.sqrt(a.size) / abs(mb)
+    else:
+        se = math.sqrt(a.var(ddof=1) / a.size + ratio**2 * b.var(ddof=1) / b.size) / abs(mb)
     shift = ratio - 1.0
     resolution = (Z_ALPHA + Z_POWER) * se
     n = max(a.size, b.size)
@@ -115,4 +127,4 @@ def compare(a, b, tolerance: float) -> Comparison:
         else:
             need = math.inf
     return Comparison(int(a.size), int(b.size), ma, mb, shift, se, resolution, anderson_p(a, b), verdict,
-                      float(tolerance), need)
+                      float(tolerance), need, bool(paired))

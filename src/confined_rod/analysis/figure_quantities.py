@@ -57,6 +57,9 @@ FIGURE_QUANTITIES = [
              "R F_z^2/(4EI), median over the regular helix", "1"),
     Quantity("pitch_ratio", r"\frac{|d\varphi/ds|}{w(F_z)}", "pitch rate over that of a torque-free helix on the "
              "wall at the local force, median over the regular helix", "1"),
+    Quantity("helix_balance", r"\frac{K}{\rho w^2(|F_z|/c - EIw^2)}", "wall force per length over the lateral "
+             "balance of a helix on the wall with any axial torque, rho w^2 (|F_z|/c - EI w^2), median over the "
+             "regular helix", "1"),
     Quantity("total_turns", r"n_{\circlearrowleft}", "turns of the rod about the pore axis, summed without sign "
              "over the off-axis links", "1"),
     Quantity("n_reversals", r"n_{rev}", "reversals of handedness of the coil", "1"),

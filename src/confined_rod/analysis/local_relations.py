@@ -11,7 +11,23 @@ discretisation and converge seed by seed (issue 43):
   median over the regular helix (exact constant pitch: 1/(1 - R^2 w^2), 1.14 at F = 0.25);
 * ``pitch_ratio``: |dphi/ds| over the pitch rate w(F) of a torque-free helix on the wall at the
   local force, 2 EI w^2 sqrt(1 - R^2 w^2) = |F_z| (theory.helix_pitch_rate), the median over
-  the regular helix.
+  the regular helix;
+* ``helix_balance``: K over rho w^2 (|F_z|/c - EI w^2), c = sqrt(1 - rho^2 w^2), the median over
+  the regular helix (rho the link centre's distance from the axis, w = |dphi/ds|).
+
+The first three compare the helix with the *torque-free* one, and a frictional helix is not
+torque-free: the friction locks an axial torque into it (analysis/torque.py), which moves its
+pitch and wall force off the torque-free values and with them the decay rate. That torque is a
+property of the state the path selected (a ramp locks in more than a sudden load), so these
+ratios move with the state: they are compared as distributions over the ensemble, like the final
+states. ``helix_balance`` holds whatever the torque: eliminating the torque tau from the
+Kirchhoff relations of a helix on the wall, F = c (2 EI w^2 - tau/(rho^2 w)) and
+K = (EI rho^2 w^4 - w tau)/rho (analysis/torque.py, derived in docs/model.md), gives
+K = rho w^2 (F/c - EI w^2), the lateral force balance of the helix: 1 in every equilibrium up
+to the discretisation (and the helix's non-uniformity), so it is the relation that must converge
+seed by seed. Dimensions: K in EI/R^3; rho w^2 F in R R^-2 EI R^-2 = EI/R^3; rho EI w^4 likewise.
+Limit: tau = 0 gives F = 2 EI w^2 c, so K = rho w^2 (2 EI w^2 - EI w^2) = EI rho w^4, and to lowest
+order in R w, R F^2/(4EI): the simple model's wall force.
 
 Where the helix is regular: with friction the bulk of regions.detect less half a smoothing
 window at each end (where the friction is at its Coulomb limit and mostly axial); without
@@ -30,7 +46,10 @@ from .. import theory
 from . import regions
 from .measure import force_at_links, helix_runs
 
-RELATIONS = ("decay_ratio", "wall_force_ratio", "pitch_ratio")
+RELATIONS = ("decay_ratio", "wall_force_ratio", "pitch_ratio", "helix_balance")
+#: the relation that holds in every equilibrium whatever its locked torque (module docstring); the
+#: others compare with the torque-free helix and move with the state
+UNIVERSAL = ("helix_balance",)
 #: the least links of regular helix a median needs
 MIN_LINKS = 8
 
@@ -76,4 +95,25 @@ def measure(sim: xr.Dataset) -> dict[str, float | None]:
     if s_h.size >= 2 and carried.sum() >= MIN_LINKS:
         w = np.interp(s_link[carried], s_h, np.abs(np.asarray(sim["dphi_ds"].values, dtype=float)))
         out["pitch_ratio"] = float(np.median(w / theory.helix_pitch_rate(F[carried], R, EI)))
+    if s_h.size >= 2:
+        out["helix_balance"] = helix_balance(sim, idx, F, K)
     return out
+
+
+def helix_balance(sim: xr.Dataset, idx: np.ndarray, F: np.ndarray, K: np.ndarray) -> float | None:
+    """The median over the links idx of K / (rho w^2 (F/c - EI w^2)) (module docstring), over the
+    links where the balance's force term is positive (w^2 < F/(EI c): a helix that presses on the
+    wall); None with fewer than MIN_LINKS of them."""
+    a = sim.attrs
+    EI = float(a["EI"])
+    rho = np.hypot(np.asarray(sim["x"].values, dtype=float), np.asarray(sim["y"].values, dtype=float))[idx]
+    s_link = np.asarray(sim["s_link"].values, dtype=float)[idx]
+    w = np.interp(s_link, np.asarray(sim["s_helix"].values, dtype=float),
+                  np.abs(np.asarray(sim["dphi_ds"].values, dtype=float)))
+    c2 = 1.0 - (rho * w) ** 2
+    c = np.sqrt(np.where(c2 > 0, c2, 1.0))
+    law = rho * w**2 * (F / c - EI * w**2)
+    ok = (c2 > 0) & (law > 0)
+    if ok.sum() < MIN_LINKS:
+        return None
+    return float(np.median(K[ok] / law[ok]))

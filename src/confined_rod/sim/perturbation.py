@@ -36,7 +36,7 @@ LAMBDA_MIN = 4.0
 #: Gaussian rod)
 RMS_OF_AMPLITUDE = 1.0 / 3.0
 #: the streams of one seed (a new use appends its own)
-START, KICK, NUDGE = 0, 1, 2
+START, KICK, NUDGE, SADDLE = 0, 1, 2, 3
 
 
 def n_modes(L: float, R: float) -> int:

@@ -93,6 +93,10 @@ class Scene:
                    stage of 'planar_then_3d' (default 0.1 R: large enough that the
                    residual criterion cannot stop the run on the planar saddle)
       seed         random seed of the perturbation
+      saddle_kicks how often a run that stops on a known saddle (observables.SADDLES: straight
+                   above Euler's load, planar and frictionless above the second threshold) is
+                   kicked out of plane by ``kick`` and relaxed again (default 0: the run ends
+                   there and its ``saddle`` flag says so)
     Numerics:
       l0, k_ph, k_w  link length, stretching stiffness (k = k_ph/l0), wall penalty
       k_t           implicit: stick stiffness of the wall friction per link: a stuck link is
@@ -138,6 +142,7 @@ class Scene:
     ramp_steps: int = 16
     ramp_start: float = 2.0
     seed: int = 0
+    saddle_kicks: int = 0
     l0: float | None = None
     k_ph: float | None = None
     k_w: float | None = None
@@ -425,6 +430,8 @@ def _validate(s: Scene) -> None:
         fail("ramp_start", "must be > 1 (the ramp starts above Euler's load, where the rod buckles)")
     if isinstance(s.max_steps, bool) or not isinstance(s.max_steps, numbers.Integral) or s.max_steps < 0:
         fail("max_steps", "must be an integer >= 0 (0: no cap)")
+    if isinstance(s.saddle_kicks, bool) or not isinstance(s.saddle_kicks, numbers.Integral) or s.saddle_kicks < 0:
+        fail("saddle_kicks", "must be an integer >= 0 (0: a run may end on a saddle, flagged)")
     if (isinstance(s.seed, bool) or not isinstance(s.seed, numbers.Integral)
             or not 0 <= s.seed <= limits.SEED_MAX):
         fail("seed", f"must be an integer in [0, {limits.SEED_MAX}] (stored as a 64-bit integer)")

@@ -15,7 +15,7 @@ from .solvers import SOLVERS
 
 #: how a run ended (the dataset's ``status`` flag; ``status_reason`` says why)
 STATUS = RUN_STATUS
-WORK_COUNTERS = ("newton_iterations", "gradients", "factorisations", "rejected_steps")
+WORK_COUNTERS = ("newton_iterations", "gradients", "factorisations", "rejected_steps", "saddle_kicks")
 
 
 def _snapshot_variables(scene: Scene, st) -> dict[str, xr.Variable]:

@@ -2,8 +2,8 @@
 Richardson limit and the check of the publication setting (rule ``convergence_check``).
 
   The scenes differ in one numerical parameter
-(l0, k_ph, k_w, k_t, tol or ramp_steps).  Its refinement variable h -> 0 is l0,
-1/k_ph, 1/k_w, 1/k_t, tol or 1/ramp_steps.  From the three finest rungs h1 > h2 > h3 (ratio r = h1/h2 = h2/h3) and an
+(l0, k_ph, k_w, k_t, tol, ramp_steps or dx_max).  Its refinement variable h -> 0 is l0,
+1/k_ph, 1/k_w, 1/k_t, tol, 1/ramp_steps or dx_max.  From the three finest rungs h1 > h2 > h3 (ratio r = h1/h2 = h2/h3) and an
 observable f, Richardson extrapolation gives
 
     observed order  p = ln((f1 - f2)/(f2 - f3)) / ln r
@@ -26,18 +26,25 @@ Seed ensembles per rung (:func:`ladder_verdict`). With friction a seed's final s
 many neighbouring equilibria, and any change of a numerical parameter can move it to another:
 no per-seed question of the final state has an answer. Two questions do:
 
-1. the **local relations** of the regular helix (analysis.local_relations: the bulk decay rate,
-   the wall force per length, the pitch rate against the local force), which hold in whichever
-   equilibrium a seed reached, within ``tolerance`` of every finer rung;
-2. the **distribution of final states** (F_transmitted, L_z) within ``distribution_tolerance``:
-   the shift of the ensemble mean, with the resolution at 95 % power and the Anderson-Darling
-   k-sample p-value (analysis.distributions); the windings, reversals and the lower region's
-   length are compared by their p-values in the notes.
+1. the **local relation** of the regular helix that holds in whichever equilibrium a seed
+   reached, whatever axial torque the friction locked in: its lateral balance
+   K = rho w^2 (|F_z|/c - EI w^2) (analysis.local_relations.helix_balance), within ``tolerance``
+   of every finer rung;
+2. the **distribution of final states** within ``distribution_tolerance``: F_transmitted, L_z
+   and the ratios to the torque-free helix (bulk decay rate, wall force, pitch rate against the
+   local force; they move with the locked torque, a property of the state): the shift of the
+   ensemble mean, with the resolution at 95 % power and the Anderson-Darling k-sample p-value
+   (analysis.distributions); the windings, reversals and the lower region's length are compared
+   by their p-values in the notes.
 
 pass when every comparison is within (its 95 % bound and its resolution inside the tolerance),
 fail when one is beyond (outside the tolerance beyond its 95 % bound), inconclusive otherwise,
-with the seeds per rung that would decide. ``paired`` ladders (every seed starts from the same
-rod on every rung) draw each seed's path across the rungs.
+with the seeds per rung that would decide. Every rung starts a seed from the same continuous rod
+(sim/perturbation.py), so each shift and its error come from the differences seed by seed
+(distributions.compare, paired): the spread a seed carries on both rungs cancels, a seed that
+moves to a neighbouring equilibrium adds its difference to the error. ``paired`` ladders (rungs
+that differ only in the path: ramp_steps, k_t) also draw each seed's values across the rungs and
+leave a seed that is unsettled on one rung out of all.
 """
 from __future__ import annotations
 
@@ -59,7 +66,8 @@ from ._common import same_except
 
 REFINEMENT = {"l0": ("h = l0", lambda v: v), "tol": ("h = tol", lambda v: v),
               "k_ph": ("h = 1/k_ph", lambda v: 1.0 / v), "k_w": ("h = 1/k_w", lambda v: 1.0 / v),
-              "k_t": ("h = 1/k_t", lambda v: 1.0 / v), "ramp_steps": ("h = 1/n_ramp", lambda v: 1.0 / v)}
+              "k_t": ("h = 1/k_t", lambda v: 1.0 / v), "ramp_steps": ("h = 1/n_ramp", lambda v: 1.0 / v),
+              "dx_max": ("h = dx_max", lambda v: v)}
 OBSERVABLES = ("F_transmitted", "L_z", "pitch")
 OPTIONS = {
     "parameter": {"enum": list(REFINEMENT), "description": "the numerical parameter the rungs differ in"},
@@ -68,10 +76,12 @@ OPTIONS = {
                   "before the build fails"},
     "on_inconclusive": {"enum": ["fail", "warn"], "description": "what an inconclusive check (rungs in different "
                         "equilibrium states, non-monotone differences) does to the build: fail, or warn and go on"},
-    "paired": {"type": "boolean", "description": "the rungs start every seed from the same rod and differ only in the "
-               "path (ramp_steps, dx_max): the figure joins each seed's values across the rungs; default false"},
+    "paired": {"type": "boolean", "description": "the rungs differ only in the path (ramp_steps, k_t, dx_max): the "
+               "figure joins each seed's values across the rungs, and a seed unsettled on one rung is left out of "
+               "all; default false (the verdict pairs the seeds of every ensemble ladder either way)"},
     "distribution_tolerance": {"type": "number", "exclusiveMinimum": 0, "description": "ensemble ladders: largest "
-                               "relative shift of the mean final state (F_transmitted, L_z) from a finer rung; "
+                               "relative shift of the mean final state (F_transmitted, L_z, the ratios to the torque-free helix) "
+                               "from a finer rung; "
                                "default: tolerance, which then bounds the local relations only"},
     "publication_value": {"type": "number", "description": "the value the figures use when it is not a scene default "
                           "(e.g. the ramp_steps of the ramped figures); default: scene_defaults or the Scene default"},
@@ -114,17 +124,19 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
     if n > 1:
         tol = 100 * float(fig_cfg["tolerance"])
         dtol = 100 * float(fig_cfg.get("distribution_tolerance", fig_cfg["tolerance"]))
-        same = (" Every rung starts a seed from the same rod and only the path differs; lines join a seed's values."
-                if fig_cfg.get("paired") else "")
+        same = (" Only the path differs between rungs; lines join a seed's values." if fig_cfg.get("paired") else "")
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, load = {sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each "
                 f"rung a seed ensemble of {n:g} runs (a run not at a stable equilibrium is left out and named in the "
-                f"verdict). Two questions: the distribution of final states (the transmitted force and L_z) and the "
-                "local relations of the regular helix, which hold in whichever equilibrium a seed reached (the bulk "
+                "verdict). Two questions: the local relation of the regular helix that holds in whichever equilibrium "
+                "a seed reached, whatever axial torque the friction locked in (its lateral balance: the wall force per "
+                "length K over rho w^2 (|F_z|/c - EI w^2)), and the distribution of final states (the transmitted "
+                "force, L_z, and the ratios to the torque-free helix, which move with the locked torque: the bulk "
                 "decay rate over k_fr R/(4EI), the wall force per length over R F_z^2/(4EI), the pitch rate over that "
                 f"of a torque-free helix at the local force). {P.words(P.SEEDS)} dots the single seeds, ensemble means "
                 "with their 95 % intervals, the band the tolerance about the finest rung's mean; panel titles give "
                 "the largest shift of the publication rung's mean from a finer rung and the resolution (the shift a "
-                f"5 % test of these ensembles detects with 95 % power). The publication value {p} = "
+                "5 % test of these ensembles detects with 95 % power); every rung starts a seed from the same rod, so "
+                "shifts and their errors come from the differences seed by seed. The publication value {p} = "
                 f"{publication_value:g} passes when every shift's 95 % bound and resolution are within the tolerance "
                 f"({tol:g} % for the relations, {dtol:g} % for the final states) and fails when a shift exceeds it "
                 "beyond its 95 % bound; otherwise the verdict is inconclusive and names the seeds per rung that would "
@@ -265,7 +277,7 @@ TITLE_WIDTH, TITLE_LINES = 95, 2
 
 
 def _keys_pattern() -> str:
-    return "|".join(re.escape(k) for k in (*OBSERVABLES, *RELATION_KEYS, *DESCRIPTOR_KEYS))
+    return "|".join(re.escape(k) for k in (*OBSERVABLES, *RELATION_KEYS, *STATE_KEYS, *DESCRIPTOR_KEYS))
 
 
 def _first_clause(part: str) -> str:
@@ -287,6 +299,8 @@ def brief_status(status: str) -> str:
     word, _, reasons = status.partition(": ")
     if not reasons:
         return status
+    if verdict_word(word) == "pass":                # 'pass: ... within 2 %, ... within 3 % (largest shifts: ...)'
+        return status.split(" (largest shifts", 1)[0]
     parts = re.split(rf"; (?=(?:{_keys_pattern()})(?: at [^:]+)?: )", reasons)
     parts = [p for p in parts if not p.endswith("(converged)")] or parts[:1]
     return f"{verdict_word(word)}: " + "; ".join(_first_clause(p) for p in parts)
@@ -312,8 +326,10 @@ def _title_lines(head: str, status: str) -> list[str]:
 
 #: the two questions an ensemble ladder decides (module docstring): the local relations per seed,
 #: and the distribution of final states (its mean tested against ``distribution_tolerance``)
-RELATION_KEYS = local_relations.RELATIONS
-STATE_KEYS = ("F_transmitted", "L_z")
+RELATION_KEYS = local_relations.UNIVERSAL
+#: the final state and the ratios to the torque-free helix (decay rate, wall force, pitch), which
+#: move with the torque the path locked in (local_relations): compared as distributions
+STATE_KEYS = ("F_transmitted", "L_z", *(k for k in local_relations.RELATIONS if k not in RELATION_KEYS))
 #: descriptors of the final state whose distributions are compared (AD p-values in the note) but
 #: do not decide: a winding or a reversal is what multistability changes
 DESCRIPTOR_KEYS = ("total_turns", "n_reversals", "lower_length")
@@ -332,12 +348,15 @@ def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
 
 
 def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: np.ndarray, ipub: int,
-                   tol: float, dist_tol: float) -> tuple[str, list[str], dict[str, list]]:
+                   tol: float, dist_tol: float, seeds: np.ndarray | None = None) -> tuple[str, list[str], dict[str, list]]:
     """(status, notes, table) of a ladder of ensembles ordered coarse to fine. ``members[k]`` is
-    (rung, member) with NaN where member k has no value (no regular helix, say).
+    (rung, member) with NaN where member k has no value (no regular helix, say). ``seeds`` (rung,
+    member): every rung starts a seed from the same rod (sim/perturbation.py), so the shifts are
+    estimated from the differences seed by seed over the seeds both rungs have a value for
+    (distributions.compare, paired); without it, unpaired.
 
     Every rung finer than the publication one is compared with it (distributions.compare): the
-    local relations against ``tol``, the state (F_transmitted, L_z) against ``dist_tol``; the
+    local relation (RELATION_KEYS) against ``tol``, the state (STATE_KEYS) against ``dist_tol``; the
     descriptors only by their AD p-value. fail if a comparison is beyond its tolerance; else
     inconclusive if one is undecided (its note names the seeds per rung that would decide); else
     pass. A relation with fewer than two values on either rung is not compared (said in the notes);
@@ -352,8 +371,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
         if k not in members:
             continue
         for j in finer:
-            a = members[k][ipub][(has[ipub] == 1) & np.isfinite(members[k][ipub])]
-            b = members[k][j][(has[j] == 1) & np.isfinite(members[k][j])]
+            a, b = _aligned(members[k], has, seeds, ipub, j)
             where = f"{k} at {values[j]:g}"
             if a.size < 2 or b.size < 2:
                 if k in RELATION_KEYS and (a.size or b.size):
@@ -365,7 +383,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
                 continue
             if np.mean(b) == 0.0:
                 continue
-            c = distributions.compare(a, b, tol if k in RELATION_KEYS else dist_tol)
+            c = distributions.compare(a, b, tol if k in RELATION_KEYS else dist_tol, paired=seeds is not None)
             compared_relation |= k in RELATION_KEYS
             table["rung"].append(j)
             table["quantity"].append(k)
@@ -392,8 +410,20 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
             largest[k] = c
     summary = ", ".join(f"{k} {100 * c.shift:+.2g} % (resolution {100 * c.resolution:.2g} %)"
                         for k, c in largest.items())
-    return (f"pass: local relations within {100 * tol:g} %, final states within {100 * dist_tol:g} % (largest "
+    return (f"pass: local relation within {100 * tol:g} %, final states within {100 * dist_tol:g} % (largest "
             f"shifts: {summary})"), notes, table
+
+
+def _aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
+    """The values of rungs i and j: every member with a value (seeds None), or the seeds both
+    rungs have a value for, in one order (paired)."""
+    ok_i, ok_j = (has[i] == 1) & np.isfinite(v[i]), (has[j] == 1) & np.isfinite(v[j])
+    if seeds is None:
+        return v[i][ok_i], v[j][ok_j]
+    at_i = {int(s): x for s, x in zip(seeds[i][ok_i], v[i][ok_i])}
+    at_j = {int(s): x for s, x in zip(seeds[j][ok_j], v[j][ok_j])}
+    common = sorted(set(at_i) & set(at_j))
+    return np.array([at_i[s] for s in common]), np.array([at_j[s] for s in common])
 
 
 def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
@@ -415,8 +445,8 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     keys = (*RELATION_KEYS, *STATE_KEYS, *DESCRIPTOR_KEYS)
     members = {k: pad.values(lambda d, k=k: _or_nan(per_run[id(d)][k]), fill=math.nan) for k in keys}
     members = {k: v for k, v in members.items() if np.isfinite(v[has == 1]).any()}
-    status, notes, table = ladder_verdict(values, members, has, ipub, tol, dist_tol)
     seeds = pad.values(lambda d: float(d.attrs["seed"]))
+    status, notes, table = ladder_verdict(values, members, has, ipub, tol, dist_tol, seeds=seeds.astype(np.int64))
     data = {}
     shown = [k for k in (*STATE_KEYS, *RELATION_KEYS) if k in members]
     for k in shown:
@@ -473,7 +503,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                      "tolerance": tol, "distribution_tolerance": dist_tol, "status": status,
                      "worst_distance": max(dist) if dist else 0.0, "notes": "; ".join(notes),
                      "paired": int(bool(fig_cfg.get("paired", False))),
-                     "method": (f"seed ensembles, two questions: the local relations of the regular helix "
+                     "method": (f"seed ensembles, two questions: the local relation of the regular helix "
                                 f"({', '.join(RELATION_KEYS)}; analysis.local_relations) within {100 * tol:g} % and "
                                 f"the distribution of final states ({', '.join(STATE_KEYS)}) within "
                                 f"{100 * dist_tol:g} % of every finer rung; each shift of the ensemble mean decided "
@@ -491,7 +521,7 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
     config says that fails too); return a one-line summary otherwise."""
     status = ds.attrs["status"]
     if "quantity" in ds.coords:
-        line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g}, local relations "
+        line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g}, local relation "
                 f"(tolerance {100 * ds.attrs['tolerance']:g} %) and final states (tolerance "
                 f"{100 * ds.attrs['distribution_tolerance']:g} %) against every finer rung: {status}")
     else:
@@ -506,7 +536,8 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
 
 
 _H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w": r"$h = 1/k_w$ [$R^3/EI$]",
-            "k_t": r"$h = 1/k_t$ [$R^3/EI$]", "tol": r"$h = \mathrm{tol}$", "ramp_steps": r"$h = 1/n_{ramp}$"}
+            "k_t": r"$h = 1/k_t$ [$R^3/EI$]", "tol": r"$h = \mathrm{tol}$", "ramp_steps": r"$h = 1/n_{ramp}$",
+            "dx_max": r"$h = dx_{max}$ [$R$]"}
 
 
 def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> None:
@@ -534,6 +565,17 @@ def plot(ds: xr.Dataset):
     checked = list(ds["observable"].values)
     for ax, k in zip(axes.flat, obs):
         f = ds[k].values
+        if not ensemble and k == "pitch" and not (ds["n_turns"].values >= 1.0).all():
+            # a rung that is not a helix has no pitch: its rungs are left out, never drawn as 0
+            helical = ds["n_turns"].values >= 1.0
+            ax.plot(h[helical], f[helical], "o", ms=4.5, **P.SIM)
+            ax.set_title("not checked: rung(s) " + ", ".join(f"{v:g}" for v in ds["value"].values[~helical])
+                         + " not helical", fontsize=7.5)
+            ax.set_xscale("log")
+            P.plain_log_ticks(ax.xaxis)
+            ax.set_xlabel(_H_LABEL[param])
+            ax.set_ylabel(label(k))
+            continue
         tol = float(ds.attrs["distribution_tolerance"] if ensemble and k in STATE_KEYS else ds.attrs["tolerance"])
         ax.plot(h, f, "-", color="0.6", lw=0.7)
         if ensemble:
@@ -558,7 +600,8 @@ def plot(ds: xr.Dataset):
             if rows.size:
                 j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
                 word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])]
-                ax.set_title(f"shift {100 * ds['cmp_shift'].values[j, q]:+.2g} %, res. "
+                ax.set_title(f"shift {100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
+                             f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %, res. "
                              f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word} {100 * tol:g} %", fontsize=7.5)
             else:
                 ax.set_title("not compared (fewer than two values)", fontsize=7.5)

@@ -246,4 +246,23 @@ def run_protocol(scene: Scene, make_stepper: Callable[[Scene], Stepper], *,
                 return st
     else:
         relax(scene, st, stepper, progress=progress)
+    leave_saddles(scene, st, make_stepper, progress=progress)
     return st
+
+
+def leave_saddles(scene: Scene, st: RunState, make_stepper: Callable[[Scene], Stepper], *,
+                  progress: bool = True) -> None:
+    """Up to scene.saddle_kicks times: a run that stopped on a known saddle (observables.saddle)
+    is displaced laterally by a continuous random rod of amplitude scene.kick (its own stream,
+    seeded per kick) and relaxed again; counted in st.work['saddle_kicks']."""
+    from .. import observables, perturbation
+
+    for i in range(scene.saddle_kicks):
+        if not st.converged or st.escaped or observables.saddle(scene, st.r) == 0:
+            return
+        z = (np.arange(scene.N) + 0.5) * scene.l0
+        st.r[:, :2] += perturbation.lateral(z, scene.L, scene.R, scene.kick, [scene.seed, i],
+                                            stream=perturbation.SADDLE)
+        st.count("saddle_kicks")
+        st.converged = False
+        relax(scene, st, make_stepper(scene), progress=progress, label=f" after saddle kick {i + 1}")
