@@ -612,17 +612,25 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
 def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     """A ladder of seed ensembles: \\val{<ladder>.seeds} (runs per rung at the equilibrium it
     decides on), and per compared quantity q (F_transmitted, L_z, decay_ratio, ...) the shift of the
-    publication rung's mean from the finest rung, \\val{<ladder>.shift.<q>} ('+1.2 +- 0.8', %), with
-    the shift the ensembles resolve at 95 % power, \\val{<ladder>.resolution.<q>} (%)."""
+    publication rung's mean from the finest rung, \\val{<ladder>.shift.<q>} ('+1.2 +- 0.8 %'), with
+    the shift the ensembles resolve at 95 % power, \\val{<ladder>.resolution.<q>} ('2.1 %'); 'not
+    measured' where a quantity was not compared."""
+    from ..analysis.figures.convergence import RELATION_KEYS, STATE_KEYS
+
     macros.add("val", f"{name}.seeds", str(int(ds["n_seeds"].values.min())))
     finest = ds.sizes["rung"] - 1
-    for q, quantity in enumerate(ds["quantity"].values):
-        if int(ds["cmp_verdict_code"].values[finest, q]) == 0:
-            continue                            # not compared (no regular helix on a rung)
+    quantities = list(ds["quantity"].values)
+    for quantity in (*RELATION_KEYS, *STATE_KEYS):
+        q = quantities.index(quantity) if quantity in quantities else None
+        if q is None or int(ds["cmp_verdict_code"].values[finest, q]) == 0:
+            # not compared: no regular helix (or fewer than two values) on a rung
+            macros.add("val", f"{name}.shift.{quantity}", "not measured")
+            macros.add("val", f"{name}.resolution.{quantity}", "not measured")
+            continue
         shift, se = 100 * float(ds["cmp_shift"].values[finest, q]), 100 * float(ds["cmp_shift_se"].values[finest, q])
-        macros.add_text("val", f"{name}.shift.{quantity}", f"{shift:+.2g} +- {se:.2g}")
-        macros.add("val", f"{name}.resolution.{quantity}",
-                   format(100 * float(ds["cmp_resolution"].values[finest, q]), ".2g"))
+        macros.add_text("val", f"{name}.shift.{quantity}", f"{shift:+.2g} +- {se:.2g} %")
+        macros.add_text("val", f"{name}.resolution.{quantity}",
+                        format(100 * float(ds["cmp_resolution"].values[finest, q]), ".2g") + " %")
 
 
 def short_status(status: str, limit: int = STATUS_CHARS) -> str:

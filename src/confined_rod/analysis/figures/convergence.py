@@ -558,7 +558,7 @@ def plot(ds: xr.Dataset):
     obs = [k for k in ((*STATE_KEYS, *RELATION_KEYS) if ensemble else OBSERVABLES) if k in ds]
     ncol = min(len(obs), 3)
     nrow = math.ceil(len(obs) / ncol)
-    fig, axes = P.plt.subplots(nrow, ncol, figsize=(7.0, 2.7 * nrow + 0.9), squeeze=False, label=ds.attrs["title"])
+    fig, axes = P.plt.subplots(nrow, ncol, figsize=(7.0, 2.9 * nrow + 0.9), squeeze=False, label=ds.attrs["title"])
     h = ds["h"].values
     param = ds.attrs["parameter"]
     pub = np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9)
@@ -601,7 +601,7 @@ def plot(ds: xr.Dataset):
                 j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
                 word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])]
                 ax.set_title(f"shift {100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
-                             f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %, res. "
+                             f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
                              f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word} {100 * tol:g} %", fontsize=7.5)
             else:
                 ax.set_title("not compared (fewer than two values)", fontsize=7.5)
