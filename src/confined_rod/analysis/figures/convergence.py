@@ -3,7 +3,8 @@ Richardson limit and the check of the publication setting (rule ``convergence_ch
 
   The scenes differ in one numerical parameter
 (l0, k_ph, k_w, k_t, tol, ramp_steps or dx_max).  Its refinement variable h -> 0 is l0,
-1/k_ph, 1/k_w, 1/k_t, tol, 1/ramp_steps or dx_max.  From the three finest rungs h1 > h2 > h3 (ratio r = h1/h2 = h2/h3) and an
+1/k_ph, 1/k_w, 1/k_t, tol, 1/ramp_steps or dx_max.  From the three finest rungs h1 > h2 > h3
+(ratio r = h1/h2 = h2/h3) and an
 observable f, Richardson extrapolation gives
 
     observed order  p = ln((f1 - f2)/(f2 - f3)) / ln r
@@ -80,8 +81,8 @@ OPTIONS = {
                "figure joins each seed's values across the rungs, and a seed unsettled on one rung is left out of "
                "all; default false (the verdict pairs the seeds of every ensemble ladder either way)"},
     "distribution_tolerance": {"type": "number", "exclusiveMinimum": 0, "description": "ensemble ladders: largest "
-                               "relative shift of the mean final state (F_transmitted, L_z, the ratios to the torque-free helix) "
-                               "from a finer rung; "
+                               "relative shift of the mean final state (F_transmitted, L_z, the ratios to the "
+                               "torque-free helix) from a finer rung; "
                                "default: tolerance, which then bounds the local relations only"},
     "publication_value": {"type": "number", "description": "the value the figures use when it is not a scene default "
                           "(e.g. the ramp_steps of the ramped figures); default: scene_defaults or the Scene default"},
@@ -348,7 +349,8 @@ def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
 
 
 def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: np.ndarray, ipub: int,
-                   tol: float, dist_tol: float, seeds: np.ndarray | None = None) -> tuple[str, list[str], dict[str, list]]:
+                   tol: float, dist_tol: float,
+                   seeds: np.ndarray | None = None) -> tuple[str, list[str], dict[str, list]]:
     """(status, notes, table) of a ladder of ensembles ordered coarse to fine. ``members[k]`` is
     (rung, member) with NaN where member k has no value (no regular helix, say). ``seeds`` (rung,
     member): every rung starts a seed from the same rod (sim/perturbation.py), so the shifts are
