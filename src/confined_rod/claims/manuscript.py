@@ -587,8 +587,11 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
             ensemble_ladder_macros(name, ds, macros)
         macros.add("val", f"{name}.distance_percent", format(100 * float(a.get("worst_distance", 0.0)), ".2g"))
         cells = [tex_escape(name), tex_escape(str(a["parameter"]))]
-        cells += [tex_value(fmt(float(x)))[0] for x in (a["L"], a["load"], a["k_fr"], a["publication_value"],
-                                                        100 * float(a["tolerance"]))]
+        cells += [tex_value(fmt(float(x)))[0] for x in (a["L"], a["load"], a["k_fr"], a["publication_value"])]
+        tol = tex_value(fmt(100 * float(a["tolerance"])))[0]
+        if "distribution_tolerance" in a:       # an ensemble ladder: the relation's / the final states'
+            tol += "/" + tex_value(fmt(100 * float(a["distribution_tolerance"])))[0]
+        cells.append(tol)
         cells.append(rf"\val{{{name}.distance_percent}}; \val{{{name}.verdict}}")
         rows.append(" & ".join(cells) + r" \\")
     table = ""
@@ -597,8 +600,9 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
                  r"\texttt{convergence\_check}): each ladder varies one parameter about its publication value; the "
                  r"distance of the publication value from the limit is, for single runs, the worst over "
                  r"$|F_z(L)|$, $L_z$ and the pitch from their Richardson limit; for seed ensembles the largest "
-                 r"shift of the publication rung's mean from a finer rung, over the final states and the local "
-                 r"relations of the regular helix; a verdict cut short is given in full in "
+                 r"shift of the publication rung's mean from a finer rung, over the lateral balance of the helix "
+                 r"(tolerance before the slash) and the final states (after it); a verdict cut short is given in "
+                 r"full in "
                  rf"\texttt{{{layout.CHECKS}}}.}}\label{{tab:convergence}}" "\n" r"\small" "\n"
                  r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
                  r"ladder & parameter & $L/R$ & load & $k_{fr}$ & value & tol.~(\%) & off the limit (\%), verdict \\"
