@@ -47,5 +47,6 @@ rule all:
         ALL_TARGETS["datasets"],
         ALL_TARGETS["figures"],
         ALL_TARGETS["checks"],
+        ALL_TARGETS["budget"],
         ALL_TARGETS["paper"],
         ALL_TARGETS["views"],

@@ -36,9 +36,9 @@ def pick(results: Path) -> dict[str, Path]:
     for f in sorted(layout.under(results, layout.DATASETS).glob("*.nc")):
         with xr.open_dataset(f) as ds:
             chosen.setdefault(f"figure kind {ds.attrs.get('kind', '?')}", f)
-    claims = layout.under(results, layout.CLAIMS_NC)
-    if claims.is_file():
-        chosen["claims"] = claims
+    for name, path in (("claims", layout.CLAIMS_NC), ("error budget", layout.ERROR_BUDGET_NC)):
+        if layout.under(results, path).is_file():
+            chosen[name] = layout.under(results, path)
     return chosen
 
 

@@ -84,10 +84,11 @@ def compare(before: Path, after: Path) -> dict:
     rel = lambda p: str(Path(p).relative_to(layout.RESULTS))  # noqa: E731
     folders = [rel(f) for f in (*layout.SCENE_FOLDERS, layout.DATASETS)]
     netcdf = [p.relative_to(before) for sub in folders for p in sorted((before / sub).rglob("*.nc"))]
-    if (before / rel(layout.CLAIMS_NC)).exists():
-        netcdf.append(Path(rel(layout.CLAIMS_NC)))
+    netcdf += [Path(rel(p)) for p in (layout.CLAIMS_NC, layout.ERROR_BUDGET_NC)
+               if (before / rel(p)).exists()]
     text = [p.relative_to(before) for p in sorted((before / rel(layout.CHECKS)).glob("*.txt"))]
-    text += [Path(rel(p)) for p in (layout.CLAIMS_CSV, *map(layout.paper_source, layout.PAPER_SOURCES))
+    text += [Path(rel(p)) for p in (layout.CLAIMS_CSV, layout.ERROR_BUDGET_CSV,
+                                    *map(layout.paper_source, layout.PAPER_SOURCES))
              if (before / rel(p)).exists()]
     diffs: dict[str, list[str]] = {}
     for r in netcdf:

@@ -15,6 +15,8 @@ tools use, relative to the checkout. ``results/`` is generated and git-ignored:
       views/                          every simulation of the figures in 3-D (rule views):
         index.html, plotly.min.js,    the list of them and the plotly.js their pages share,
         <figure>/<scene>.html         one page per simulation
+      error_budget.nc, error_budget.csv  numerical bias beside statistical error of every headline
+                                      number (rule error_budget)
       claims.csv, claims.nc           the verdicts on the paper's claims (rule claims)
       paper/                          the manuscript's generated parts and PDF
       logs/<rule>/..., benchmarks/<rule>/...   one log and one benchmark per job
@@ -42,6 +44,8 @@ VIEW_PAGE = "{figure}/{scene}.html"
 PAPER = RESULTS / "paper"
 LOGS = RESULTS / "logs"
 BENCHMARKS = RESULTS / "benchmarks"
+ERROR_BUDGET_NC = str(RESULTS / "error_budget.nc")
+ERROR_BUDGET_CSV = str(RESULTS / "error_budget.csv")
 CLAIMS_CSV = str(RESULTS / "claims.csv")
 CLAIMS_NC = str(RESULTS / "claims.nc")
 #: the folders of scene files (whatever rule made them)

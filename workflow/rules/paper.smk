@@ -39,6 +39,7 @@ rule paper_sources:
     input:
         claims=layout.CLAIMS_NC,
         datasets=ALL_TARGETS["datasets"],
+        budget=ALL_TARGETS["budget"],
         code=PAPER_CODE,
     output:
         numbers=layout.paper_source("numbers"),

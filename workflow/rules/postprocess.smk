@@ -50,3 +50,32 @@ rule convergence_check:
         "../envs/confined_rod.yaml"
     script:
         "../scripts/convergence_check.py"
+
+
+rule error_budget:
+    """The error budget of the headline numbers: for each number a figure reports, its
+    statistical error (seed spread) beside its numerical bias per parameter (from the
+    convergence ladders, or a threshold's bracket and discretisation): results/error_budget.nc
+    and .csv (confined_rod.analysis.error_budget)."""
+    input:
+        datasets=ALL_TARGETS["datasets"],
+        code=lambda wildcards: code.budget_code(
+            {pipeline.kinds.module_path(config["figures"][f]["kind"]) for f in pipeline.figures(config)}
+        ),
+    output:
+        nc=layout.ERROR_BUDGET_NC,
+        csv=layout.ERROR_BUDGET_CSV,
+    params:
+        figures=lambda wildcards: pipeline.figures(config),
+    log:
+        layout.log_path("error_budget", "error_budget"),
+    benchmark:
+        layout.benchmark_path("error_budget", "error_budget")
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    conda:
+        "../envs/confined_rod.yaml"
+    script:
+        "../scripts/error_budget.py"

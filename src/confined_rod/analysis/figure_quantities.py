@@ -123,6 +123,7 @@ FIGURE_QUANTITIES = [
     Quantity("F_euler", "F_E", "Euler's critical load pi^2 EI/L^2", "EI R-2"),
     Quantity("L2_over_EI", "L^2/EI", "L^2/EI of the thresholds scene (scales a load to Euler units)", "R2 EI-1"),
     Quantity("aspect", "L/R", "aspect ratio of the rod", "1"),
+    Quantity("l0_over_R", "l_0/R", "link length of the threshold scene over its pore radius", "1"),
     Quantity("R2_over_EI", "R^2/EI", "R^2/EI of the threshold scene (scales a load to units of EI/R^2)", "R2 EI-1"),
     Quantity("branch_k_fr", "k_{fr}", "friction coefficient of the sweep", "1"),
     Quantity("branch_protocol", "", "protocol of the sweep (start of each fresh run, or of the first load)", "1"),
@@ -300,6 +301,30 @@ FIGURE_QUANTITIES = [
     Quantity("end_contact_force", "N_{end}", "wall force on the link of the detached end's tip that touches the wall",
              "EI R-2"),
     Quantity("span_euler_load", "F_g", "Euler's load pi^2 EI/g^2 of the free span (pinned-pinned)", "EI R-2"),
+    # the error budget of the headline numbers (analysis.error_budget)
+    Quantity("headline", "", "headline number: <figure>.<quantity>.<where>", "1"),
+    Quantity("budget_parameter", "", "numerical parameter or bias term of the budget", "1"),
+    Quantity("headline_label", "", "what the headline number is", "1"),
+    Quantity("headline_figure", "", "figure that reports the headline number", "1"),
+    Quantity("headline_quantity", "", "kind of the headline number: F_transmitted (a transmitted fraction), "
+             "decay_ratio, threshold or defect_fraction", "1"),
+    Quantity("headline_protocol", "", "loading protocol of the headline's runs", "1"),
+    Quantity("headline_note", "", "how the headline number and its statistical error are obtained", "1"),
+    Quantity("headline_value", "", "headline number, in the reduced unit its label states", "1"),
+    Quantity("stat_error", r"\sigma_{stat}", "relative standard error of the headline number over seeds "
+             "(0 where not measured: has_stat_error)", "1"),
+    Quantity("has_stat_error", "", "the statistical error is measured (1) or not (0: a single frictional run)", "1"),
+    Quantity("bias", r"\delta_p", "relative numerical bias of the headline from this parameter: the shift of the "
+             "publication rung's ensemble mean from the finest rung of its ladder, or a bias term of a threshold",
+             "1"),
+    Quantity("bias_se", r"\sigma_p", "standard error of the relative numerical bias (0 for a bias term known "
+             "exactly)", "1"),
+    Quantity("has_bias", "", "the bias from this parameter is measured (1) or not (0)", "1"),
+    Quantity("bias_source", "", "where the bias was measured (ladder and its rod) or how it is known", "1"),
+    Quantity("bias_bound", r"B_{95}", "95 % bound of the relative numerical bias: root sum of squares over the "
+             "parameters of |delta_p| + 1.96 sigma_p", "1"),
+    Quantity("limited_by", "", "what limits the headline number: 0 its statistics (1.96 sigma_stat >= B_95), "
+             "1 its numerics, 2 unknown (statistical error not measured)", "1"),
 ]
 
 QUANTITIES = SCENE_FILE_QUANTITIES.extended(FIGURE_QUANTITIES)

@@ -613,6 +613,45 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
     macros.add("val", "git_commit", ", ".join(c[:12] for c in commits))
 
 
+def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
+    """The error budget (analysis.error_budget): \\errorbudgettable, one row per headline number
+    with its statistical and numerical 95 % errors and what limits it; \\val{budget.<limit>} the
+    count of numbers each limits (statistics, numerics, unknown), and per headline
+    \\val{budget.<headline>.stat}, \\val{budget.<headline>.bias} ('1.2 %'). Empty without a budget."""
+    from ..analysis import error_budget
+
+    rows = error_budget.rows(ds) if ds is not None else []
+    for limit in error_budget.LIMITED_BY:
+        macros.add("val", f"budget.{limit}", str(sum(r["limited_by"] == limit for r in rows)))
+    macros.add("val", "budget.numbers", str(len(rows)))
+    lines = []
+    for r in rows:
+        stat = "not measured" if r["stat_95_percent"] is None else format(r["stat_95_percent"], ".2g") + " %"
+        bias = format(r["bias_95_percent"], ".2g") + " %"
+        macros.add("val", f"budget.{r['headline']}.stat", stat)
+        macros.add("val", f"budget.{r['headline']}.bias", bias)
+        missing = f"; not measured: {r['not_measured']}" if r["not_measured"] else ""
+        cells = [tex_escape(r["figure"]), tex_escape(r["label"]), tex_value(format(r["value"], ".3g"))[0],
+                 str(r["n_seeds"]), tex_value(stat)[0], tex_value(bias)[0],
+                 tex_escape(r["largest_bias"]).replace(" +- ", r" \ensuremath{\pm} ") + tex_escape(missing),
+                 tex_escape(r["limited_by"])]
+        lines.append(" & ".join(cells) + r" \\")
+    table = ""
+    if lines:
+        table = (r"\begin{table*}[p]\caption{Error budget of the headline numbers (rule \texttt{error\_budget}, "
+                 rf"\texttt{{{tex_escape(layout.ERROR_BUDGET_CSV)}}}): the statistical error is 1.96 standard errors "
+                 r"of the mean over $n$ seeds; the numerical bias is the 95\,\% bound $\sqrt{\sum_p(|\delta_p| + "
+                 r"1.96\sigma_p)^2}$ over the numerical parameters $p$, $\delta_p$ the shift of the publication "
+                 r"rung's mean from the finest rung of the ladder over $p$ (Table~\ref{tab:convergence}), measured "
+                 r"at the ladder's rod, or for a threshold half its bisection bracket and the discretisation of the "
+                 r"discrete chain's Euler load; the largest term is given with its standard error. The larger of "
+                 r"the two errors limits the number.}\label{tab:budget}" "\n" r"\scriptsize" "\n"
+                 r"\begin{tabular}{@{}llllllp{0.3\linewidth}l@{}}\hline" "\n"
+                 r"figure & number & value & $n$ & statistics & numerics & largest bias term & limited by \\"
+                 r" \hline" "\n" + "\n".join(lines) + "\n" r"\hline\end{tabular}\end{table*}")
+    macros.raw.append(r"\newcommand{\errorbudgettable}{" + table + "}")
+
+
 def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     """A ladder of seed ensembles: \\val{<ladder>.seeds} (runs per rung at the equilibrium it
     decides on), and per compared quantity q (F_transmitted, L_z, decay_ratio, ...) the shift of the

@@ -110,6 +110,11 @@ def figure_code(kind_module: str | Path) -> list[str]:
     return code_closure(STYLE, kind_module)
 
 
+def budget_code(kind_modules) -> list[str]:
+    """The error budget: its module, the figure kinds' headlines (their modules) and what they import."""
+    return code_closure(ANALYSIS / "error_budget.py", *kind_modules, skip=(STYLE,))
+
+
 def claims_code() -> list[str]:
     """The claims: every module of claims/ but the manuscript generator, and what they import."""
     return code_closure(*[p for p in _part(CLAIMS) if p != MANUSCRIPT], skip=(STYLE,))

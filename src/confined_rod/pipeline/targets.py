@@ -94,6 +94,7 @@ def expected_outputs(config: dict[str, Any]) -> dict[str, list[str]]:
         out["datasets"].append(layout.dataset_path(f))
         out["figures"] += list(layout.figure_paths(f))
     out["checks"] = [layout.check_path(f) for f in convergence_figures(config)]
+    out["budget"] = budget_outputs(config)
     out["paper"] = paper_outputs(config)
     out["views"] = view_outputs(config)
     return out
@@ -127,6 +128,13 @@ def view_pages(config: dict[str, Any]) -> list[str]:
         return []
     pages = [layout.view_page(f, s) for f in view_figures(config) for s in scenes(expand(config), f)]
     return [layout.VIEWS_INDEX, str(layout.VIEWS / layout.VIEWS_PLOTLY), *pages]
+
+
+def budget_outputs(config: dict[str, Any]) -> list[str]:
+    """The error budget (rule error_budget), if a figure of the config reports headline numbers."""
+    if any(kinds.has_headlines(config["figures"][f]["kind"]) for f in figures(config)):
+        return [layout.ERROR_BUDGET_NC, layout.ERROR_BUDGET_CSV]
+    return []
 
 
 def paper_outputs(config: dict[str, Any]) -> list[str]:

@@ -33,6 +33,9 @@ Optional (absent: the default in brackets)
                                 parameters [those of the first scene]
     check(ds, figure, on_inconclusive)  a verdict that can fail the build (rule
                         convergence_check: the convergence ladders) [none]
+    headlines(figure, ds)  the numbers the figure reports, as analysis.error_budget.Headline
+                        (value, statistical error, what decides its numerical bias), for the
+                        error budget (rule error_budget) [none]
 
 Adding a kind is one new module here and its entry in a config (then regenerate the schema).
 The modules are post-processing: they read datasets and never import the simulator (the import
@@ -80,6 +83,17 @@ def source(kind: str) -> str:
 def varied(kind: str, fig_cfg) -> tuple[str, ...]:
     fn = getattr(get(kind), "varied", None)
     return tuple(fn(fig_cfg)) if fn else ()
+
+
+def has_headlines(kind: str) -> bool:
+    return hasattr(get(kind), "headlines")
+
+
+def headlines(figure: str, ds) -> list:
+    """The error budget's numbers of one figure's dataset (its kind's ``headlines``; none if it
+    has no such hook)."""
+    fn = getattr(get(str(ds.attrs["kind"])), "headlines", None)
+    return list(fn(figure, ds)) if fn else []
 
 
 def origin(fig_cfg) -> str:

@@ -21,6 +21,7 @@ import xarray as xr
 from ... import theory
 from ...errors import ConfigError, SceneError
 from .. import plotting as P
+from ..error_budget import Headline, euler_discretisation
 from ..figure_quantities import label, variable
 from ._common import check_scene_keys, same_except, scene_coord
 
@@ -167,6 +168,8 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     data["F_euler"] = variable(("aspect",), euler, "F_euler")
     data["L2_over_EI"] = variable(("aspect",), scale, "L2_over_EI")
     data["aspect_scene"] = scene_coord("aspect", thr)
+    data["aspect_l0"] = variable(("aspect",), [float(sims[n].attrs["l0"]) / float(sims[n].attrs["R"]) for n in thr],
+                                 "l0_over_R")
     coords = {"load": variable(("load",), loads, "load"), "branch": scene_coord("branch", sweeps),
               "aspect": variable(("aspect",), aspect, "aspect"),
               "threshold": variable(("threshold",), np.array(["first", "second"], dtype=object), "threshold")}
@@ -182,6 +185,32 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
         ds.attrs["hysteresis_loads"] = int(differ.sum())
         ds.attrs["hysteresis_max_dL_z"] = float(np.abs(ds.L_z.values[iu] - ds.L_z.values[idn]).max())
     return ds
+
+
+#: the half-wave a threshold's Euler mode buckles in, as a fraction of L
+HALF_WAVE = {"first": 1.0, "second": 0.5}
+
+
+def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
+    """The error budget's numbers: each threshold at each aspect ratio in units of pi^2 EI/L^2,
+    with the bisection's bracket and the discretisation of the discrete chain's Euler load as its
+    bias; a frictionless threshold of the straight or planar rod has no seed spread."""
+    out = []
+    for i, aspect in enumerate(ds["aspect"].values):
+        for j, which in enumerate(ds["threshold"].values):
+            lo, hi = float(ds["threshold_lo"].values[i, j]), float(ds["threshold_hi"].values[i, j])
+            unit = float(ds["L2_over_EI"].values[i]) / np.pi**2
+            l0_over_L = float(ds["aspect_l0"].values[i]) / float(aspect)
+            scene = str(ds["aspect_scene"].values[i])
+            out.append(Headline(
+                f"{figure}.{which}_threshold.{scene}", figure,
+                f"{which} threshold F L^2/(pi^2 EI), L/R = {aspect:g} ({scene})", 0.5 * (lo + hi) * unit, 0.0, 1,
+                "threshold", float(aspect), 0.5 * (lo + hi), float(ds.attrs.get("k_fr", 0.0)),
+                terms={"bracket": ((hi - lo) / (hi + lo), "half the bisection's bracket"),
+                       "discretisation": (euler_discretisation(l0_over_L, HALF_WAVE[str(which)]),
+                                          "Euler load of the discrete chain (theory)")},
+                note="bisection of one frictionless run per load: no seed spread"))
+    return out
 
 
 def plot(ds: xr.Dataset):

@@ -32,6 +32,7 @@ from ... import theory
 from ...errors import ConfigError
 from ...limits import ESCAPE_RADIUS
 from .. import plotting as P
+from ..error_budget import Headline, euler_discretisation
 from ..figure_quantities import label, variable
 from ._common import check_scene_keys, scene_coord
 from .helix_views import side_strip
@@ -160,6 +161,8 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     data["aspect_R"] = variable(("aspect",), R_thr, "R")
     data["free_span"] = variable(("aspect",), [float(sims[n].attrs["free_span"]) for n in thr], "free_span")
     data["aspect_scene"] = scene_coord("aspect", thr)
+    data["aspect_l0"] = variable(("aspect",), [float(sims[n].attrs["l0"]) / float(sims[n].attrs["R"]) for n in thr],
+                                 "l0_over_R")
     coords = {"frame": variable(("frame",), np.array(["a", "b", "c"], dtype=object), "frame"),
               "aspect": variable(("aspect",), [float(sims[n].attrs["L"]) / float(sims[n].attrs["R"]) for n in thr],
                                  "aspect"),
@@ -178,6 +181,28 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     below = bool(closed.any()) and 0 < paper < float((lo * scale)[closed].min())
     ds.attrs["paper_load_below_fold_thresholds"] = int(below)
     return ds
+
+
+def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
+    """The error budget's numbers: each fold or escape threshold in units of EI/R^2, with the
+    bisection's bracket as its bias and, for an escape through a free span g, the discretisation
+    of the span's Euler load; one frictional seed, so no statistical error."""
+    out = []
+    for i, aspect in enumerate(ds["aspect"].values):
+        lo, hi = float(ds["threshold_lo"].values[i]), float(ds["threshold_hi"].values[i])
+        scale = float(ds["threshold_R2_over_EI"].values[i])
+        span = float(ds["free_span"].values[i]) / float(ds["aspect_R"].values[i])
+        scene = str(ds["aspect_scene"].values[i])
+        terms = {"bracket": ((hi - lo) / (hi + lo), "half the bisection's bracket")}
+        if span > 0:
+            terms["discretisation"] = (euler_discretisation(float(ds["aspect_l0"].values[i]), span),
+                                       "Euler load of the discrete free span (theory)")
+        what = f"escape threshold, span g/R = {span:g}" if span > 0 else "fold threshold"
+        out.append(Headline(f"{figure}.threshold.{scene}", figure, f"{what} [EI/R^2], L/R = {aspect:g} ({scene})",
+                            0.5 * (lo + hi) * scale, None, 1, "threshold", float(aspect), 0.5 * (lo + hi),
+                            float(ds.attrs.get("k_fr", 0.0)), terms=terms,
+                            note="bisection of one frictional seed: seed spread not measured"))
+    return out
 
 
 def _strip(ax, ds, i, R, L, top):

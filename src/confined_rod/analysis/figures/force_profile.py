@@ -24,6 +24,7 @@ import xarray as xr
 from ... import theory
 from ...errors import ConfigError
 from .. import ensembles, regions
+from ..error_budget import Headline
 from .. import plotting as P
 from ..figure_quantities import attrs, error_attrs, label, variable
 from ..fits import PARAMS, FitError, determined, fit_power_law, power_law, undetermined
@@ -401,6 +402,40 @@ def _build(fig_cfg, sims) -> xr.Dataset:
     return ds
 
 
+
+
+def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
+    """The error budget's numbers of each panel: the transmitted fraction and the bulk decay rate
+    over the simple model's k_fr R/(4EI), ensemble means with their standard errors. A figure run
+    with the paper's printed bending constant tests that constant and has none."""
+    if ds.attrs.get("bending_constant") == "paper" or "n_seeds" not in ds:
+        return []
+    out = []
+    protocol = str(ds.attrs.get("protocol", "straight"))
+    p = str(ds.attrs.get("panel_parameter", "none"))
+    where = "ramp, " if protocol == "ramp" else ""
+    for i, panel in enumerate(ds["panel"].values):
+        def par(k, i=i):
+            if p == k and "panel_value" in ds.coords:
+                return float(ds["panel_value"].values[i])
+            return float(ds.attrs[k]) if k in ds.attrs else float(ds[k].values[i])
+        L, load, k_fr = par("L"), par("load"), par("k_fr")
+        n = int(ds["n_seeds"].values[i])
+        tag = f"{where}panel {panel}" if ds.sizes["panel"] > 1 else f"{where}L/R = {L:g}".rstrip(", ")
+        out.append(Headline(f"{figure}.fraction.{panel}", figure, f"F(L)/F0, {tag}",
+                            float(ds["transmitted_fraction"].values[i]),
+                            float(ds["fraction_sem"].values[i]) if n > 1 else None, n, "F_transmitted", L, load, k_fr,
+                            protocol, note="ensemble mean over seeds; statistical error sd/sqrt(n)"))
+        nb = int(ds["has_bulk_member"].values[i].sum())
+        model = float(ds["decay_rate_model"].values[i])
+        if nb and k_fr > 0 and model > 0:
+            out.append(Headline(f"{figure}.decay_ratio.{panel}", figure,
+                                f"bulk decay rate / (k_fr R/4EI), {tag}",
+                                float(ds["bulk_decay_rate_mean"].values[i]) / model,
+                                float(ds["bulk_decay_rate_std"].values[i]) / model / np.sqrt(nb) if nb > 1 else None,
+                                nb, "decay_ratio", L, load, k_fr, protocol,
+                                note="mean over the seeds with a bulk helix; statistical error sd/sqrt(n)"))
+    return out
 
 
 def _plot_local_law(ax, d, s) -> None:

@@ -21,6 +21,7 @@ import xarray as xr
 
 from ...errors import ConfigError, SceneError
 from .. import plotting as P
+from ..error_budget import Headline
 from ..figure_quantities import variable
 from ..measure import defects
 from ._common import need_scenes, same_except, scene_coord
@@ -120,6 +121,17 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
         + f" ({with_def} of {len(names)} seeds end with a defect; the shown run has {s_def.size})",
     })
     return ds
+
+
+def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
+    """The error budget's number: the share of seeds whose helix forms with a defect, with the
+    binomial standard error sqrt(p(1-p)/n) at p = (k+1)/(n+2) (never 0 for a finite ensemble)."""
+    n, k = int(ds.attrs["seeds"]), int(ds.attrs["seeds_with_defects"])
+    pl = (k + 1.0) / (n + 2.0)
+    return [Headline(f"{figure}.defect_fraction", figure, "share of seeds ending with a defect", k / n,
+                     float(np.sqrt(pl * (1.0 - pl) / n)), n, "defect_fraction", float(ds.attrs.get("L", 0.0)),
+                     float(ds.attrs.get("load", 0.0)), float(ds.attrs.get("k_fr", 0.0)),
+                     note="binomial over seeds")] if n else []
 
 
 def plot(ds: xr.Dataset):

@@ -15,6 +15,7 @@ import xarray as xr
 
 from ... import theory
 from .. import ensembles, regions
+from ..error_budget import Headline
 from .. import plotting as P
 from ..figure_quantities import label, variable
 from ..measure import n_turns
@@ -146,6 +147,22 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
                                                     "state_class_name"))
     ds.attrs["ensemble"] = "mean, standard deviation (ddof 1), standard error, min, max over the seeds of each length"
     return ds
+
+
+def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
+    """The error budget's numbers: F(L)/F0 at each length, with the standard error of the
+    ensemble mean (analysis.error_budget)."""
+    load, k_fr = float(ds.attrs["load"]), float(ds.attrs["k_fr"])
+    protocol = str(ds.attrs.get("protocol", "straight"))
+    out = []
+    for i, L in enumerate(ds["L"].values):
+        ensemble = "F_sem" in ds
+        out.append(Headline(
+            f"{figure}.fraction.L{L:g}", figure, f"F(L)/F0, L/R = {L:g}", float(ds["F_transmitted"].values[i]) / load,
+            float(ds["F_sem"].values[i]) / load if ensemble and int(ds["n_seeds"].values[i]) > 1 else None,
+            int(ds["n_seeds"].values[i]) if ensemble else 1, "F_transmitted", float(L), load, k_fr, protocol,
+            note="ensemble mean over seeds; statistical error sd/sqrt(n)"))
+    return out
 
 
 def _plot_local_law(bx, ds: xr.Dataset) -> None:

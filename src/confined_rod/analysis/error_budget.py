@@ -1,0 +1,249 @@
+"""The error budget of the headline numbers: numerical bias beside statistical error.
+
+Every headline number of the reproduction (the transmitted fraction F(L)/F0 of Figs 4, 6 and 7,
+the bulk decay rate of Figs 4 and 7 against the simple model's k_fr R/(4EI), the thresholds of
+Figs 3 and 8, the share of Fig 2's seeds that end with a defect) carries two errors of different
+nature:
+
+* the **statistical error**: the spread of the final state over seeds (friction makes the
+  equilibrium path-dependent), the standard error of the ensemble mean sd/sqrt(n); for a
+  threshold found by bisection on one frictionless run there is none (the instability of the
+  straight or planar rod does not depend on the seed); for one frictional run it is not measured;
+* the **numerical bias**: how far the publication numerics sit from their limit. For each
+  numerical parameter p it is the shift of the publication rung's ensemble mean from the finest
+  rung of the convergence ladder over p (analysis.figures.convergence: the relative shift
+  delta_p with its standard error sigma_p, paired seed by seed), read for the ladder's quantity
+  that the headline is (F_transmitted for a transmitted fraction, decay_ratio for a decay
+  rate). A ladder is measured at one rod; its relative shift is taken to hold for the headline's
+  rod (the dx_max ladder nearest in L, the ramp ladder of the same friction and load, the l0,
+  k_ph, k_w, k_t and tol ladders at L/R = 80): the table names where each shift was measured.
+  For a threshold, the bisection's bracket (half its width) and the discretisation of the Euler
+  load of the discrete chain, (sin x/x)^2 - 1 with x = pi l0/(2 lambda) for a buckling half-wave
+  of length lambda (L for the first threshold, L/2 for the second, the free span for an escape
+  of Fig 8), replace the ladders.
+
+Each parameter's bias is bounded at 95 % by |delta_p| + 1.96 sigma_p; the bound of the number is
+the root sum of squares over the parameters (independent settings). It is set beside the
+statistical 95 % half-width 1.96 sd/sqrt(n): the larger one limits the number.
+
+The headlines come from the figure kinds (an optional ``headlines(figure, ds)`` in a kind module,
+returning :class:`Headline` objects); the ladders are every dataset of kind ``convergence`` with
+seed ensembles."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Iterable, Mapping
+
+import numpy as np
+import xarray as xr
+
+from .figure_quantities import variable
+
+#: a headline's statistical error at 95 %: this many standard errors
+Z95 = 1.96
+#: the numerical parameters a budget reads from the ladders, in the order of the table
+LADDER_PARAMETERS = ("l0", "k_ph", "k_w", "k_t", "tol", "dx_max", "ramp_steps")
+#: the bias terms of a threshold (no ladder varies one)
+THRESHOLD_TERMS = ("bracket", "discretisation")
+PARAMETERS = LADDER_PARAMETERS + THRESHOLD_TERMS
+#: limited_by flag values
+LIMITED_BY = ("statistics", "numerics", "unknown")
+
+
+@dataclass(frozen=True)
+class Headline:
+    """One number a figure reports, with its statistical error and what decides its bias."""
+    key: str                  # unique, e.g. 'fig6_FonL.fraction.L320'
+    figure: str
+    label: str                # what it is, for the table: 'F(L)/F0, L/R = 320'
+    value: float
+    stat_error: float | None  # standard error of `value` (absolute); None: not measured
+    n_seeds: int
+    quantity: str             # 'F_transmitted', 'decay_ratio' (read from the ladders) or 'threshold'
+    L: float                  # the rod, to find the ladders measured nearest to it (in R)
+    load: float
+    k_fr: float
+    protocol: str = "straight"
+    #: relative bias terms known without a ladder (THRESHOLD_TERMS), as (value, why)
+    terms: Mapping[str, tuple[float, str]] = field(default_factory=dict)
+    note: str = ""
+
+
+def euler_discretisation(l0: float, wavelength: float) -> float:
+    """Relative error of the Euler load of a chain of links l0 buckling in a half-wave of length
+    ``wavelength``: (4 EI/l0^2) sin^2(pi l0/(2 lambda)) over pi^2 EI/lambda^2, minus 1, i.e.
+    (sin x/x)^2 - 1 with x = pi l0/(2 lambda); -x^2/3 to lowest order (theory.first_threshold)."""
+    x = math.pi * l0 / (2.0 * wavelength)
+    return (math.sin(x) / x) ** 2 - 1.0
+
+
+@dataclass(frozen=True)
+class Ladder:
+    """What a budget reads from one ensemble convergence ladder."""
+    name: str
+    parameter: str
+    L: float
+    load: float
+    k_fr: float
+    protocol: str
+    #: quantity -> (relative shift of the publication rung from the finest, its standard error)
+    shifts: Mapping[str, tuple[float, float]]
+
+
+def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
+    """The ensemble convergence ladders among the datasets, with the publication rung's shift from
+    the finest rung per compared quantity."""
+    out = []
+    for name, ds in sorted(datasets.items()):
+        if ds.attrs.get("kind") != "convergence" or "quantity" not in ds.coords:
+            continue
+        finest = ds.sizes["rung"] - 1
+        shifts = {}
+        for q, k in enumerate(ds["quantity"].values):
+            if int(ds["cmp_verdict_code"].values[finest, q]) != 0:
+                shifts[str(k)] = (float(ds["cmp_shift"].values[finest, q]),
+                                  float(ds["cmp_shift_se"].values[finest, q]))
+        a = ds.attrs
+        out.append(Ladder(name, str(a["parameter"]), float(a["L"]), float(a["load"]), float(a["k_fr"]),
+                          str(a.get("protocol", "straight")), shifts))
+    return out
+
+
+def _same(x: float, y: float) -> bool:
+    return math.isclose(x, y, rel_tol=1e-9, abs_tol=1e-12)
+
+
+def match(h: Headline, parameter: str, ladders: Iterable[Ladder]) -> Ladder | None:
+    """The ladder over ``parameter`` that stands for the headline's rod: only a frictional
+    headline reads the (frictional) ladders; a ramp ladder only for a ramped rod of the same
+    friction and load; otherwise one of the same friction and load if there is one, then the
+    nearest in ln L."""
+    if h.quantity == "threshold" or h.k_fr <= 0:
+        return None
+    cands = [x for x in ladders if x.parameter == parameter and h.quantity in x.shifts and x.k_fr > 0]
+    if parameter == "ramp_steps":
+        if h.protocol != "ramp":
+            return None
+        cands = [x for x in cands if _same(x.k_fr, h.k_fr) and _same(x.load, h.load)]
+    same = [x for x in cands if _same(x.k_fr, h.k_fr) and _same(x.load, h.load)]
+    cands = same or cands
+    if not cands:
+        return None
+    return min(cands, key=lambda x: (abs(math.log(x.L / h.L)), x.name))
+
+
+def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Dataset], list[Headline]]) -> xr.Dataset:
+    """The budget dataset: one row per headline of the datasets (``headlines_of(figure, ds)``),
+    its statistical error and its bias per numerical parameter (module docstring)."""
+    heads = [h for name, ds in sorted(datasets.items()) for h in headlines_of(name, ds)]
+    keys = [h.key for h in heads]
+    twice = sorted({k for k in keys if keys.count(k) > 1})
+    if twice:
+        raise ValueError(f"error budget: headline key(s) {', '.join(twice)} given by more than one number")
+    ladders = ladders_of(datasets)
+    H, P = len(heads), len(PARAMETERS)
+    bias, bias_se, has_bias = np.zeros((H, P)), np.zeros((H, P)), np.zeros((H, P), dtype=np.int8)
+    source = np.full((H, P), "", dtype=object)
+    value, stat, has_stat = np.zeros(H), np.zeros(H), np.zeros(H, dtype=np.int8)
+    bound, limited = np.zeros(H), np.zeros(H, dtype=np.int8)
+    for i, h in enumerate(heads):
+        value[i] = h.value
+        if h.stat_error is not None:
+            stat[i], has_stat[i] = abs(h.stat_error) / abs(h.value) if h.value else 0.0, 1
+        for p, name in enumerate(PARAMETERS):
+            if name in h.terms:
+                bias[i, p], source[i, p] = h.terms[name]
+                has_bias[i, p] = 1
+                continue
+            lad = match(h, name, ladders) if name in LADDER_PARAMETERS else None
+            if lad is not None:
+                bias[i, p], bias_se[i, p] = lad.shifts[h.quantity]
+                has_bias[i, p] = 1
+                source[i, p] = f"{lad.name} (L/R = {lad.L:g})"
+        per = np.abs(bias[i]) + Z95 * bias_se[i]
+        bound[i] = float(np.sqrt(np.sum(np.where(has_bias[i] == 1, per, 0.0) ** 2)))
+        limited[i] = (LIMITED_BY.index("unknown") if not has_stat[i] else
+                      LIMITED_BY.index("numerics") if bound[i] > Z95 * stat[i] else LIMITED_BY.index("statistics"))
+    coords = {"headline": variable(("headline",), np.array([h.key for h in heads], dtype=object), "headline"),
+              "budget_parameter": variable(("budget_parameter",), np.array(PARAMETERS, dtype=object),
+                                           "budget_parameter")}
+    data = {
+        "headline_label": variable(("headline",), np.array([h.label for h in heads], dtype=object), "headline_label"),
+        "headline_figure": variable(("headline",), np.array([h.figure for h in heads], dtype=object),
+                                    "headline_figure"),
+        "headline_quantity": variable(("headline",), np.array([h.quantity for h in heads], dtype=object),
+                                      "headline_quantity"),
+        "headline_protocol": variable(("headline",), np.array([h.protocol for h in heads], dtype=object),
+                                      "headline_protocol"),
+        "headline_note": variable(("headline",), np.array([h.note for h in heads], dtype=object), "headline_note"),
+        "headline_value": variable(("headline",), value, "headline_value"),
+        "n_seeds": variable(("headline",), np.array([h.n_seeds for h in heads], dtype=np.int32), "n_seeds"),
+        "stat_error": variable(("headline",), stat, "stat_error"),
+        "has_stat_error": variable(("headline",), has_stat, "has_stat_error"),
+        "bias": variable(("headline", "budget_parameter"), bias, "bias"),
+        "bias_se": variable(("headline", "budget_parameter"), bias_se, "bias_se"),
+        "has_bias": variable(("headline", "budget_parameter"), has_bias, "has_bias"),
+        "bias_source": variable(("headline", "budget_parameter"), source, "bias_source"),
+        "bias_bound": variable(("headline",), bound, "bias_bound"),
+        "limited_by": variable(("headline",), limited, "limited_by"),
+    }
+    for flag in ("has_stat_error", "has_bias"):
+        data[flag].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="not_measured measured")
+    data["limited_by"].attrs.update(flag_values=np.arange(len(LIMITED_BY), dtype=np.int8),
+                                    flag_meanings=" ".join(LIMITED_BY))
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update({"title": "Error budget of the headline numbers: numerical bias beside statistical error",
+                     "z95": Z95, "method": __doc__.split("\n\n", 1)[1].replace("\n", " ")})
+    return ds
+
+
+def expected(quantity: str, protocol: str) -> tuple[str, ...]:
+    """The bias terms a headline of this quantity and protocol should have: the threshold terms
+    for a threshold, else the ladders (ramp_steps only for a ramp)."""
+    if quantity == "threshold":
+        return THRESHOLD_TERMS
+    return tuple(p for p in LADDER_PARAMETERS if p != "ramp_steps" or protocol == "ramp")
+
+
+def rows(ds: xr.Dataset) -> list[dict[str, str | float]]:
+    """One row per headline, for the CSV and the manuscript's table: value, the statistical and
+    numerical 95 % errors in per cent, the largest bias term and what limits the number."""
+    out = []
+    params = [str(p) for p in ds["budget_parameter"].values]
+    for i, key in enumerate(ds["headline"].values):
+        per = (np.abs(ds["bias"].values[i]) + Z95 * ds["bias_se"].values[i]) * ds["has_bias"].values[i]
+        j = int(np.argmax(per))
+        measured = [p for p, m in zip(params, ds["has_bias"].values[i]) if m]
+        out.append({
+            "headline": str(key), "figure": str(ds["headline_figure"].values[i]),
+            "label": str(ds["headline_label"].values[i]), "value": float(ds["headline_value"].values[i]),
+            "n_seeds": int(ds["n_seeds"].values[i]),
+            "stat_95_percent": (100 * Z95 * float(ds["stat_error"].values[i]) if ds["has_stat_error"].values[i]
+                                else None),
+            "bias_95_percent": 100 * float(ds["bias_bound"].values[i]),
+            "largest_bias": (f"{params[j]} {100 * float(ds['bias'].values[i, j]):+.2g} +- "
+                             f"{100 * float(ds['bias_se'].values[i, j]):.2g} %" if per[j] > 0 else "none measured"),
+            "measured": " ".join(measured),
+            "not_measured": " ".join(p for p in expected(str(ds["headline_quantity"].values[i]),
+                                                         str(ds["headline_protocol"].values[i]))
+                                     if p not in measured),
+            "limited_by": LIMITED_BY[int(ds["limited_by"].values[i])],
+            "note": str(ds["headline_note"].values[i]),
+        })
+    return out
+
+
+def to_csv(ds: xr.Dataset) -> str:
+    import csv
+    import io
+
+    table = rows(ds)
+    buf = io.StringIO()
+    if table:
+        w = csv.DictWriter(buf, fieldnames=list(table[0]), lineterminator="\n")
+        w.writeheader()
+        for r in table:
+            w.writerow({k: ("not measured" if v is None else format(v, ".4g") if isinstance(v, float) else v)
+                        for k, v in r.items()})
+    return buf.getvalue()

@@ -1,0 +1,157 @@
+"""The error budget (analysis.error_budget) on constructed ladders and headlines: which ladder
+stands for which number, the 95 % bound, what limits a number, the discretisation of a threshold."""
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from confined_rod.analysis import error_budget as eb
+
+
+def ladder(parameter, L, shifts, load=0.25, k_fr=0.8, protocol="straight"):
+    """A convergence dataset as the kind stores it: three rungs, the publication rung in the middle,
+    ``shifts`` = {quantity: (shift, se)} of the publication rung against the finest rung."""
+    q = list(shifts)
+    shift, se, code = np.zeros((3, len(q))), np.zeros((3, len(q))), np.zeros((3, len(q)), dtype=np.int8)
+    for j, k in enumerate(q):
+        shift[2, j], se[2, j] = shifts[k]
+        code[2, j] = 1
+    ds = xr.Dataset({"cmp_shift": (("rung", "quantity"), shift), "cmp_shift_se": (("rung", "quantity"), se),
+                     "cmp_verdict_code": (("rung", "quantity"), code)},
+                    coords={"quantity": ("quantity", np.array(q, dtype=object))})
+    ds.attrs.update(kind="convergence", parameter=parameter, L=L, load=load, k_fr=k_fr, protocol=protocol)
+    return ds
+
+
+def headline(quantity="F_transmitted", L=320.0, value=0.1, se=0.002, protocol="straight", k_fr=0.8, load=0.25,
+             terms=None):
+    return eb.Headline(f"fig.{quantity}.L{L:g}.{protocol}.k{k_fr:g}", "fig", "a number", value, se, 5, quantity,
+                       L, load, k_fr, protocol, terms=terms or {})
+
+
+def budget(heads, ladders):
+    datasets = {name: ds for name, ds in ladders.items()}
+    datasets["fig"] = xr.Dataset(attrs={"kind": "none"})
+    return eb.build(datasets, lambda name, ds: heads if name == "fig" else [])
+
+
+def row(ds, key):
+    return {r["headline"]: r for r in eb.rows(ds)}[key]
+
+
+def test_bias_is_the_publication_rungs_shift_and_the_bound_the_root_sum_of_squares():
+    """Two ladders with known shifts: the bias per parameter is the shift, the bound
+    sqrt(sum (|delta| + 1.96 se)^2); the number is limited by its numerics when the bound exceeds
+    1.96 standard errors of the mean, by its statistics otherwise."""
+    lads = {"conv_l0": ladder("l0", 80, {"F_transmitted": (-0.016, 0.0056)}),
+            "conv_tol": ladder("tol", 80, {"F_transmitted": (0.0001, 0.0)})}
+    h_num = headline(value=0.1, se=0.0005)    # statistics 0.98 % at 95 % < bound 2.7 %
+    h_stat = headline(L=40.0, value=0.1, se=0.004)   # statistics 7.8 %
+    ds = budget([h_num, h_stat], lads)
+    p = list(ds["budget_parameter"].values)
+    i = list(ds["headline"].values).index(h_num.key)
+    assert ds["bias"].values[i, p.index("l0")] == pytest.approx(-0.016)
+    assert ds["bias_se"].values[i, p.index("l0")] == pytest.approx(0.0056)
+    expect = math.hypot(0.016 + 1.96 * 0.0056, 0.0001)
+    assert ds["bias_bound"].values[i] == pytest.approx(expect)
+    assert row(ds, h_num.key)["limited_by"] == "numerics"
+    assert row(ds, h_stat.key)["limited_by"] == "statistics"
+    assert ds["stat_error"].values[i] == pytest.approx(0.005)      # relative
+    # the parameters no ladder measured are named, and the ramp is not expected of a straight load
+    assert set(row(ds, h_num.key)["not_measured"].split()) == {"k_ph", "k_w", "k_t", "dx_max"}
+    for v in ds.data_vars.values():
+        if v.dtype.kind == "f":
+            assert np.isfinite(v.values).all()
+
+
+def test_ladder_matching_nearest_rod_same_friction_and_ramp_only_for_ramps():
+    """dx_max from the ladder nearest in ln L; a ladder of the same friction and load before
+    another; the ramp ladder only for a ramped rod of its own friction and load; a quantity the
+    ladder did not compare is not measured."""
+    lads = {"dx320": ladder("dx_max", 320, {"F_transmitted": (0.01, 0.001)}),
+            "dx1280": ladder("dx_max", 1280, {"F_transmitted": (0.03, 0.001)}),
+            "ramp_c": ladder("ramp_steps", 320, {"F_transmitted": (0.005, 0.002)}, protocol="ramp"),
+            "ramp_a": ladder("ramp_steps", 320, {"F_transmitted": (0.05, 0.002)}, k_fr=0.1, protocol="ramp")}
+    near640 = headline(L=640.0)      # ln-distance: 320 and 1280 are equally far -> the name decides
+    at900 = headline(L=900.0)
+    ramp_c = headline(protocol="ramp", k_fr=0.8)
+    ramp_b = headline(protocol="ramp", k_fr=0.3)
+    decay = headline(quantity="decay_ratio", L=320.0)
+    ds = budget([near640, at900, ramp_c, ramp_b, decay], lads)
+    p = list(ds["budget_parameter"].values)
+    b = {h: ds["bias"].values[i] for i, h in enumerate(ds["headline"].values)}
+    src = {h: ds["bias_source"].values[i] for i, h in enumerate(ds["headline"].values)}
+    has = {h: ds["has_bias"].values[i] for i, h in enumerate(ds["headline"].values)}
+    assert b[at900.key][p.index("dx_max")] == pytest.approx(0.03)
+    assert src[at900.key][p.index("dx_max")].startswith("dx1280")
+    assert b[ramp_c.key][p.index("ramp_steps")] == pytest.approx(0.005)
+    assert has[ramp_b.key][p.index("ramp_steps")] == 0        # no ramp ladder at k_fr 0.3
+    assert has[near640.key][p.index("ramp_steps")] == 0      # not a ramp
+    assert has[decay.key].sum() == 0                          # no ladder compared the decay ratio
+    assert "ramp_steps" in row(ds, ramp_b.key)["not_measured"].split()
+
+
+def test_threshold_terms_replace_the_ladders_and_a_missing_statistic_leaves_the_limit_unknown():
+    lads = {"conv_l0": ladder("l0", 80, {"F_transmitted": (-0.016, 0.0056)})}
+    thr = eb.Headline("fig.thr", "fig", "a threshold", 3.9, None, 1, "threshold", 20.0, 0.1, 0.8,
+                      terms={"bracket": (5e-4, "bracket"), "discretisation": (-2e-3, "theory")})
+    ds = budget([thr], lads)
+    p = list(ds["budget_parameter"].values)
+    assert ds["has_bias"].values[0, p.index("l0")] == 0
+    assert ds["bias_bound"].values[0] == pytest.approx(math.hypot(5e-4, 2e-3))
+    assert row(ds, "fig.thr")["limited_by"] == "unknown"
+    assert row(ds, "fig.thr")["stat_95_percent"] is None
+    assert "not measured" in eb.to_csv(ds)
+
+
+def test_two_numbers_with_one_key_are_refused():
+    h = headline()
+    with pytest.raises(ValueError, match="fig.F_transmitted"):
+        budget([h, h], {})
+
+
+@pytest.mark.parametrize("ratio", [0.01, 0.025, 0.1])
+def test_euler_discretisation_matches_the_discrete_chain_and_its_lowest_order(ratio):
+    """(4/l0^2) sin^2(pi l0/(2 lambda)) against pi^2/lambda^2 (the continuum), and -x^2/3 for
+    small x = pi l0/(2 lambda): the discrete chain buckles at a lower load."""
+    lam, l0 = 1.0, ratio
+    exact = (4.0 / l0**2) * math.sin(math.pi * l0 / (2 * lam)) ** 2 / (math.pi**2 / lam**2) - 1.0
+    assert eb.euler_discretisation(l0, lam) == pytest.approx(exact, rel=1e-12)
+    x = math.pi * l0 / (2 * lam)
+    assert eb.euler_discretisation(l0, lam) == pytest.approx(-x**2 / 3, rel=x**2)
+    assert eb.euler_discretisation(l0, lam) < 0
+
+
+# -- the figure kinds' headline numbers, through the postprocess step -------------------------------
+from confined_rod.analysis import figures, postprocess  # noqa: E402
+
+from .test_ensembles import _profile, _sim  # noqa: E402
+
+
+def test_transmitted_force_headlines_are_the_fraction_with_the_standard_error_of_the_mean():
+    sims = {"L20-s0": _sim(20.0, 0, 0.10), "L20-s1": _sim(20.0, 1, 0.12), "L20-s2": _sim(20.0, 2, 0.11),
+            "L40-s0": _sim(40.0, 0, 0.08), "L40-s1": _sim(40.0, 1, 0.09)}
+    ds = postprocess.build("f6", {"kind": "transmitted_force", "scenes": {}}, sims)
+    heads = {h.key: h for h in figures.headlines("f6", ds)}
+    h = heads["f6.fraction.L20"]
+    assert h.value == pytest.approx(0.11 / 0.25, rel=1e-12)
+    assert h.stat_error == pytest.approx(np.std([0.10, 0.12, 0.11], ddof=1) / np.sqrt(3) / 0.25, rel=1e-12)
+    assert (h.n_seeds, h.quantity, h.L, h.k_fr) == (3, "F_transmitted", 20.0, 0.8)
+
+
+def test_force_profile_headlines_give_the_decay_rate_over_the_simple_model():
+    """Members whose profile decays as the simple model with its rate scaled by 1.2, 1.0, 0.8:
+    the decay ratio's mean is 1 and its standard error 0.2/sqrt(3) (up to the bulk fit's
+    window, a few per cent); the printed-constant run has no headline."""
+    members = {"c-s0": _profile(0, 1.2), "c-s1": _profile(1, 1.0), "c-s2": _profile(2, 0.8)}
+    ds = postprocess.build("f4", {"kind": "force_profile", "scenes": {}}, members)
+    heads = {h.key: h for h in figures.headlines("f4", ds)}
+    frac = heads["f4.fraction.c"]
+    assert frac.value == pytest.approx(float(ds["transmitted_fraction"][0]), rel=1e-14)
+    decay = heads["f4.decay_ratio.c"]
+    assert decay.n_seeds == 3 and decay.quantity == "decay_ratio"
+    assert decay.value == pytest.approx(1.0, rel=0.05)
+    assert decay.stat_error == pytest.approx(0.2 / np.sqrt(3), rel=0.1)
+    ds.attrs["bending_constant"] = "paper"
+    assert figures.headlines("f4", ds) == []
