@@ -24,8 +24,8 @@ import xarray as xr
 from ... import theory
 from ...errors import ConfigError
 from .. import ensembles, regions
-from ..error_budget import Headline
 from .. import plotting as P
+from ..error_budget import Headline
 from ..figure_quantities import attrs, error_attrs, label, variable
 from ..fits import PARAMS, FitError, determined, fit_power_law, power_law, undetermined
 from ..measure import HELIX_RUN, contact_range, euler_ratio, n_turns

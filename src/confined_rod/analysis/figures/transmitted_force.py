@@ -15,8 +15,8 @@ import xarray as xr
 
 from ... import theory
 from .. import ensembles, regions
-from ..error_budget import Headline
 from .. import plotting as P
+from ..error_budget import Headline
 from ..figure_quantities import label, variable
 from ..measure import n_turns
 from ._common import need_scenes, per_scene, same_except, scene_coord
