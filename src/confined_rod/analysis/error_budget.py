@@ -149,8 +149,8 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
     bound, limited = np.zeros(H), np.zeros(H, dtype=np.int8)
     for i, h in enumerate(heads):
         value[i] = h.value
-        if h.stat_error is not None:
-            stat[i], has_stat[i] = abs(h.stat_error) / abs(h.value) if h.value else 0.0, 1
+        if h.stat_error is not None and h.value != 0:     # a relative error of 0 is undefined
+            stat[i], has_stat[i] = abs(h.stat_error) / abs(h.value), 1
         for p, name in enumerate(PARAMETERS):
             if name in h.terms:
                 bias[i, p], source[i, p] = h.terms[name]
@@ -222,8 +222,8 @@ def rows(ds: xr.Dataset) -> list[dict[str, str | float]]:
             "stat_95_percent": (100 * Z95 * float(ds["stat_error"].values[i]) if ds["has_stat_error"].values[i]
                                 else None),
             "bias_95_percent": 100 * float(ds["bias_bound"].values[i]),
-            "largest_bias": (f"{params[j]} {100 * float(ds['bias'].values[i, j]):+.2g} +- "
-                             f"{100 * float(ds['bias_se'].values[i, j]):.2g} %" if per[j] > 0 else "none measured"),
+            "largest_bias": _term(params[j], float(ds["bias"].values[i, j]), float(ds["bias_se"].values[i, j]))
+            if per[j] > 0 else "none measured",
             "measured": " ".join(measured),
             "not_measured": " ".join(p for p in expected(str(ds["headline_quantity"].values[i]),
                                                          str(ds["headline_protocol"].values[i]))
@@ -232,6 +232,11 @@ def rows(ds: xr.Dataset) -> list[dict[str, str | float]]:
             "note": str(ds["headline_note"].values[i]),
         })
     return out
+
+
+def _term(name: str, bias: float, se: float) -> str:
+    """'l0 -1.6 +- 0.56 %', or 'bracket +0.39 %' for a term known exactly."""
+    return f"{name} {100 * bias:+.2g}" + (f" +- {100 * se:.2g} %" if se > 0 else " %")
 
 
 def to_csv(ds: xr.Dataset) -> str:

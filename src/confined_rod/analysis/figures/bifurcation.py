@@ -194,9 +194,14 @@ HALF_WAVE = {"first": 1.0, "second": 0.5}
 def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
     """The error budget's numbers: each threshold at each aspect ratio in units of pi^2 EI/L^2,
     with the bisection's bracket and the discretisation of the discrete chain's Euler load as its
-    bias; a frictionless threshold of the straight or planar rod has no seed spread."""
-    out = []
+    bias; a frictionless threshold of the straight or planar rod has no seed spread. A rod
+    repeated in other units (R = 2, the same L/R and l0/R) is counted once."""
+    out, seen = [], set()
     for i, aspect in enumerate(ds["aspect"].values):
+        rod = (float(aspect), float(ds["aspect_l0"].values[i]))
+        if rod in seen:         # the same rod in other units (R = 2): a units check, counted once
+            continue
+        seen.add(rod)
         for j, which in enumerate(ds["threshold"].values):
             lo, hi = float(ds["threshold_lo"].values[i, j]), float(ds["threshold_hi"].values[i, j])
             unit = float(ds["L2_over_EI"].values[i]) / np.pi**2
@@ -204,7 +209,7 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
             scene = str(ds["aspect_scene"].values[i])
             out.append(Headline(
                 f"{figure}.{which}_threshold.{scene}", figure,
-                f"{which} threshold F L^2/(pi^2 EI), L/R = {aspect:g} ({scene})", 0.5 * (lo + hi) * unit, 0.0, 1,
+                f"{which} threshold [pi^2 EI/L^2], L/R = {aspect:g} ({scene})", 0.5 * (lo + hi) * unit, 0.0, 1,
                 "threshold", float(aspect), 0.5 * (lo + hi), float(ds.attrs.get("k_fr", 0.0)),
                 terms={"bracket": ((hi - lo) / (hi + lo), "half the bisection's bracket"),
                        "discretisation": (euler_discretisation(l0_over_L, HALF_WAVE[str(which)]),

@@ -186,12 +186,17 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
 def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
     """The error budget's numbers: each fold or escape threshold in units of EI/R^2, with the
     bisection's bracket as its bias and, for an escape through a free span g, the discretisation
-    of the span's Euler load; one frictional seed, so no statistical error."""
-    out = []
+    of the span's Euler load; one frictional seed, so no statistical error. A rod repeated in
+    other units (R = 2) is counted once."""
+    out, seen = [], set()
     for i, aspect in enumerate(ds["aspect"].values):
         lo, hi = float(ds["threshold_lo"].values[i]), float(ds["threshold_hi"].values[i])
         scale = float(ds["threshold_R2_over_EI"].values[i])
         span = float(ds["free_span"].values[i]) / float(ds["aspect_R"].values[i])
+        rod = (float(aspect), span, float(ds["aspect_l0"].values[i]))
+        if rod in seen:         # the same rod in other units (R = 2): a units check, counted once
+            continue
+        seen.add(rod)
         scene = str(ds["aspect_scene"].values[i])
         terms = {"bracket": ((hi - lo) / (hi + lo), "half the bisection's bracket")}
         if span > 0:
