@@ -155,3 +155,12 @@ def test_force_profile_headlines_give_the_decay_rate_over_the_simple_model():
     assert decay.stat_error == pytest.approx(0.2 / np.sqrt(3), rel=0.1)
     ds.attrs["bending_constant"] = "paper"
     assert figures.headlines("f4", ds) == []
+
+
+def test_budget_labels_set_their_units_in_math_and_escape_the_rest():
+    from confined_rod.claims import manuscript
+
+    tex = manuscript.budget_label_tex("first threshold [pi^2 EI/L^2], L/R = 10 (thr_L10)")
+    assert tex == r"first threshold [$\pi^2 EI/L^2$], $L/R$ = 10 (thr\_L10)"
+    assert manuscript.budget_label_tex("bulk decay rate / (k_fr R/4EI), panel a") == \
+        r"bulk decay rate / ($k_{\rm fr}R/4EI$), panel a"

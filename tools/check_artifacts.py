@@ -77,15 +77,18 @@ def check_pdf(path: Path) -> list[str]:
 
 
 def check_csv(path: Path) -> list[str]:
-    """The claims table: a header with a verdict column, at least one row, every row with a verdict, no NaN."""
+    """A table: the claims (a verdict column) or the error budget (a limited_by column) with at
+    least one row, every row with that column filled, no NaN."""
     import csv
 
+    column, key = (("limited_by", "headline") if path.name == Path(layout.ERROR_BUDGET_CSV).name
+                   else ("verdict", "id"))
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
-    if not rows or "verdict" not in rows[0]:
-        return [f"{path}: no rows or no verdict column"]
-    errors = [f"{path}: row {r.get('id')!r} has no verdict" for r in rows if not r["verdict"]]
-    errors += [f"{path}: row {r.get('id')!r} contains NaN" for r in rows
+    if not rows or column not in rows[0]:
+        return [f"{path}: no rows or no {column} column"]
+    errors = [f"{path}: row {r.get(key)!r} has no {column}" for r in rows if not r[column]]
+    errors += [f"{path}: row {r.get(key)!r} contains NaN" for r in rows
                if any(v.strip().lower() == "nan" for v in r.values())]
     return errors
 

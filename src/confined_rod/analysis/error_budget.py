@@ -38,6 +38,7 @@ from typing import Callable, Iterable, Mapping
 import numpy as np
 import xarray as xr
 
+from ..io import finalize
 from .figure_quantities import variable
 
 #: a headline's statistical error at 95 %: this many standard errors
@@ -192,10 +193,9 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
         data[flag].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="not_measured measured")
     data["limited_by"].attrs.update(flag_values=np.arange(len(LIMITED_BY), dtype=np.int8),
                                     flag_meanings=" ".join(LIMITED_BY))
-    ds = xr.Dataset(data, coords=coords)
-    ds.attrs.update({"title": "Error budget of the headline numbers: numerical bias beside statistical error",
-                     "z95": Z95, "method": __doc__.split("\n\n", 1)[1].replace("\n", " ")})
-    return ds
+    return finalize(xr.Dataset(data, coords=coords),
+                    "Error budget of the headline numbers: numerical bias beside statistical error",
+                    {"z95": Z95, "method": __doc__.split("\n\n", 1)[1].replace("\n", " ")})
 
 
 def expected(quantity: str, protocol: str) -> tuple[str, ...]:

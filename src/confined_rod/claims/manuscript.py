@@ -621,20 +621,24 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
     from ..analysis import error_budget
 
     rows = error_budget.rows(ds) if ds is not None else []
+    deterministic = False
     for limit in error_budget.LIMITED_BY:
         macros.add("val", f"budget.{limit}", str(sum(r["limited_by"] == limit for r in rows)))
     macros.add("val", "budget.numbers", str(len(rows)))
     lines = []
     for r in rows:
         stat = "not measured" if r["stat_95_percent"] is None else format(r["stat_95_percent"], ".2g") + " %"
-        bias = format(r["bias_95_percent"], ".2g") + " %"
+        bias = format(r["bias_95_percent"], ".2g") + " %" if r["measured"] else "not measured"
         macros.add("val", f"budget.{r['headline']}.stat", stat)
         macros.add("val", f"budget.{r['headline']}.bias", bias)
+        if r["stat_95_percent"] == 0.0 and r["n_seeds"] == 1:
+            stat, deterministic = "none*", True     # one frictionless run: a unique equilibrium
         missing = f"; not measured: {r['not_measured']}" if r["not_measured"] else ""
-        cells = [tex_escape(r["figure"]), tex_escape(r["label"]), tex_value(format(r["value"], ".3g"))[0],
-                 str(r["n_seeds"]), tex_value(stat)[0], tex_value(bias)[0],
-                 tex_escape(r["largest_bias"]).replace(" +- ", r" \ensuremath{\pm} ") + tex_escape(missing),
-                 tex_escape(r["limited_by"])]
+        largest = "" if r["largest_bias"] == "none measured" else r["largest_bias"]
+        term = re.sub(r" -(?=\d)", r" \\ensuremath{-}", tex_escape(largest)).replace(" +- ", r" \ensuremath{\pm} ")
+        cells = [tex_escape(r["figure"]), r"\raggedright " + budget_label_tex(r["label"]),
+                 tex_value(format(r["value"], ".3g"))[0], str(r["n_seeds"]), tex_value(stat)[0], tex_value(bias)[0],
+                 r"\raggedright " + (term + tex_escape(missing)).strip("; "), tex_escape(r["limited_by"])]
         lines.append(" & ".join(cells) + r" \\")
     table = ""
     if lines:
@@ -645,11 +649,29 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
                  r"rung's mean from the finest rung of the ladder over $p$ (Table~\ref{tab:convergence}), measured "
                  r"at the ladder's rod, or for a threshold half its bisection bracket and the discretisation of the "
                  r"discrete chain's Euler load; the largest term is given with its standard error. The larger of "
-                 r"the two errors limits the number.}\label{tab:budget}" "\n" r"\scriptsize" "\n"
-                 r"\begin{tabular}{@{}llllllp{0.3\linewidth}l@{}}\hline" "\n"
+                 r"the two errors limits the number."
+                 + (r" none*: one frictionless run, whose equilibrium is unique, so no seed spread." if deterministic
+                    else "") + r"}\label{tab:budget}" "\n" r"\scriptsize" "\n"
+                 r"\begin{tabular}{@{}lp{0.27\linewidth}llllp{0.22\linewidth}l@{}}\hline" "\n"
                  r"figure & number & value & $n$ & statistics & numerics & largest bias term & limited by \\"
                  r" \hline" "\n" + "\n".join(lines) + "\n" r"\hline\end{tabular}\end{table*}")
     macros.raw.append(r"\newcommand{\errorbudgettable}{" + table + "}")
+
+
+#: the plain-text units and symbols of the budget's labels (analysis.figures.*.headlines), as LaTeX
+_LABEL_TEX = {"pi^2 EI/L^2": r"$\pi^2 EI/L^2$", "EI/R^2": r"$EI/R^2$", "k_fr R/4EI": r"$k_{\rm fr}R/4EI$",
+              "F(L)/F0": r"$F(L)/F_0$", "L/R": r"$L/R$", "g/R": r"$g/R$"}
+_LABEL_TOKENS = re.compile("|".join(re.escape(t) for t in sorted(_LABEL_TEX, key=len, reverse=True)))
+
+
+def budget_label_tex(label: str) -> str:
+    """A headline's plain label ('first threshold [pi^2 EI/L^2], L/R = 10') as LaTeX: its units and
+    symbols set in math, the rest escaped."""
+    out, end = [], 0
+    for m in _LABEL_TOKENS.finditer(label):
+        out += [tex_escape(label[end:m.start()]), _LABEL_TEX[m.group()]]
+        end = m.end()
+    return "".join(out) + tex_escape(label[end:])
 
 
 def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
