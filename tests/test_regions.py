@@ -107,3 +107,27 @@ def test_detached_lengths_read_each_end():
     assert top == pytest.approx(6.0, abs=L0)
     assert bottom == pytest.approx(15.0, abs=L0)
     assert top != pytest.approx(bottom, abs=1.0)
+
+
+def test_force_parts_split_the_inverse_force_by_region_from_the_loaded_end():
+    """A constructed helix detached over its first 10 R (|F_z| = load, link 0 at the loaded end), on
+    the wall with d(1/|F_z|)/ds = rate exactly, detached again over its last 20 R: the parts sum to
+    1/|F(L)| - 1/|F(0)|, and each is the rate times the stretch of helix inside its region (the bulk
+    boundaries may sit a little inside or outside the helix; a stretch of helix outside the bulk counts
+    to its region at the same rate)."""
+    from .shapes import prescribed_helix
+
+    ds = prescribed_helix(L=100.0, tip=10.0, bottom=20.0, c_K=1.1, k_fr=0.8)
+    a = regions.analyse(ds)
+    parts = regions.force_parts(ds, a)
+    F = np.abs(ds["F_z"].values)
+    rate = 1.1 * 0.8 / 4.0
+    assert sum(parts.values()) == pytest.approx(1 / F[-1] - 1 / F[0], rel=1e-12)
+    on_start, on_end = 10.0, 80.0
+    sb, se = a.regions.s_bulk_start, a.regions.s_bulk_end
+    # 1/|F_z| is linear in s on the helix and flat off it, so interpolation between joints is exact
+    assert parts["tip"] == pytest.approx(rate * max(0.0, sb - on_start), abs=1e-9)
+    assert parts["bulk"] == pytest.approx(rate * (min(se, on_end) - max(sb, on_start)), rel=1e-9)
+    assert parts["lower"] == pytest.approx(rate * max(0.0, on_end - se), abs=1e-9)
+    assert parts["bulk"] > 10 * (parts["tip"] + parts["lower"])
+    assert regions.force_parts(prescribed_helix(tip=97.0)) is None

@@ -90,6 +90,32 @@ def helix_pitch_rate(F, R: float = 1.0, EI: float = 1.0):
     return np.sqrt(0.5 * (lo + hi)) / R
 
 
+def discrete_helix(F: float, l0: float, R: float = 1.0, EI: float = 1.0) -> dict[str, float]:
+    """The torque-free helix of the discrete chain (links of length l0, bending C = EI/l0, joints on
+    the wall at radius R) under the axial force |F| (docs/model.md, "The discrete helix").
+
+    Its energy per link is EI l0 u^4/(2 R^2) + |F| l0 sqrt(1 - u^2) exactly, u the sine of a link's
+    angle to the axis, the continuum's energy per length times l0 with u = R w: the relation
+    2 EI w^2 sqrt(1 - R^2 w^2) = |F| and the wall force K = EI R w^4 hold for any l0 in the chord
+    variable w = u/R. The only l0 term is the azimuth a link spans, theta = 2 arcsin(u l0/(2R)), not
+    u l0/R: dphi/ds = theta/l0 and the pitch 2 pi l0 sqrt(1 - u^2)/theta are off the continuum's by
+    the factors arcsin(x)/x and x/arcsin(x), x = w l0/2, i.e. +-(w l0)^2/24 to lowest order; the
+    link centres sit at R cos(theta/2) ~ R (1 - (w l0)^2/8).
+
+    Returns w (chord variable, 1/R), dphi_ds (1/R), pitch (R), K (EI/R^3), rho_centre (R) and
+    theta (rad). Dimensions: u and theta are numbers, l0 and R lengths."""
+    if l0 <= 0:
+        raise ValueError(f"l0 must be positive, got {l0!r}")
+    w = float(helix_pitch_rate(F, R, EI))
+    u = R * w
+    x = w * l0 / 2.0
+    if x >= 1.0:
+        raise ValueError(f"a link of l0 = {l0} cannot span a helix of pitch rate {w:g} on radius {R}")
+    theta = 2.0 * float(np.arcsin(x))
+    return {"w": w, "dphi_ds": theta / l0, "pitch": 2.0 * np.pi * l0 * np.sqrt(1.0 - u * u) / theta,
+            "K": EI * R * w**4, "rho_centre": R * np.cos(theta / 2.0), "theta": theta}
+
+
 # -- the thresholds of the bifurcation diagram (docs/model.md, "Transitions") ----------------
 def first_threshold(L: float, R: float, l0: float, EI: float) -> float:
     """Euler's load of the discrete rod lying diagonally across the pore:

@@ -48,6 +48,12 @@ FIGURE_QUANTITIES = [
     Quantity("panel", "", "panel (scene id in the config)", "1"),
     Quantity("param", "", "fit parameter", "1"),
     Quantity("pitch", "P", "bulk pitch of the helix, 2 pi |dz/dphi| over the middle half of the contact stretch", "R"),
+    Quantity("F_shift_by_region", "\\delta F_{region}/F", "share of the relative shift of the transmitted force "
+             "|F_z(L)| between the publication rung and the finest rung of a ladder that a region of the rod "
+             "carries, mean over paired seeds of -F(L) times the change of what the region adds to 1/|F_z|", "1"),
+    Quantity("F_shift_by_region_se", "\\sigma", "standard error of F_shift_by_region over the paired seeds", "1"),
+    Quantity("pitch_theory", "P_{th}", "pitch of the discrete chain's torque-free helix on the wall at the load, "
+             "2 pi l0 sqrt(1 - R^2 w^2)/(2 asin(w l0/2)) (theory.discrete_helix)", "R"),
     Quantity("value", "", "value of the refined parameter", "1"),
     Quantity("h", "h", "refinement variable (l0, 1/k_ph, 1/k_w or tol)", "1"),
     Quantity("observable", "", "observable of the convergence check", "1"),
@@ -64,6 +70,7 @@ FIGURE_QUANTITIES = [
              "over the off-axis links", "1"),
     Quantity("n_reversals", r"n_{rev}", "reversals of handedness of the coil", "1"),
     Quantity("quantity", "", "quantity compared between the rungs", "1"),
+    Quantity("rod_region", "", "region of the rod, from the loaded end: tip, bulk helix, lower region", "1"),
     Quantity("shift", r"\delta", "relative shift of the publication rung's ensemble mean from this rung's", "1"),
     Quantity("shift_se", r"\sigma_\delta", "standard error of the relative shift (Welch)", "1"),
     Quantity("resolution", r"\delta_{95}", "smallest relative shift of the mean detected with 95 % power by a "

@@ -184,7 +184,13 @@ def legend_entries(axes) -> tuple[list, list[str]]:
 
 
 def bottom_legend(fig, ax, bottom: float = 0.07, ncol: int | None = None) -> None:
-    """One legend for all panels, below them."""
+    """One legend for all panels, below them: the entries of ``ax`` and then those only another
+    panel has (each label once)."""
     handles, labels = ax.get_legend_handles_labels()
+    for other in fig.axes:
+        for h, lab in zip(*other.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
     fig.legend(handles, labels, loc="lower center", ncol=ncol or len(labels), bbox_to_anchor=(0.5, -0.01))
     fig.tight_layout(rect=(0, bottom, 1, 1))

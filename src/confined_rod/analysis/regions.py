@@ -202,6 +202,22 @@ SUMMARY_KEYS = ("has_bulk", "s_bulk_start", "s_bulk_end", "tip_length", "bulk_le
                 "whole_decay_rate_err", "decay_rate_model", "decay_rate_paper", "decay_ratio")
 
 
+def force_parts(sim: xr.Dataset, a: Analysis | None = None) -> dict[str, float] | None:
+    """What each region adds to 1/|F_z| from the loaded end (s = 0) to the support (s = L): tip
+    1/|F(s_bulk_start)| - 1/|F(0)|, bulk 1/|F(s_bulk_end)| - 1/|F(s_bulk_start)|, lower 1/|F(L)| -
+    1/|F(s_bulk_end)| (in R^2/EI), |F_z| interpolated linearly between the joints; their sum is
+    1/|F(L)| - 1/|F(0)|. A change dX of a part moves the transmitted force by dF(L)/F(L) =
+    -F(L) dX to first order, which is how a ladder splits the shift of F(L) by region. None
+    without a bulk or with a force that vanishes."""
+    a = a or analyse(sim)
+    reg = a.regions
+    s, F = np.asarray(sim["s"].values, dtype=float), np.abs(np.asarray(sim["F_z"].values, dtype=float))
+    if not reg.has_bulk or np.any(F <= 0.0):
+        return None
+    inv = 1.0 / np.interp([0.0, reg.s_bulk_start, reg.s_bulk_end, s[-1]], s, F)
+    return dict(zip(REGIONS, np.diff(inv).tolist()))
+
+
 def summary(sim: xr.Dataset, a: Analysis | None = None) -> dict[str, float]:
     """The scalars a figure dataset stores per run (quantities.py names; 0 with has_bulk = 0
     where there is no bulk): region boundaries and lengths, the lower region's mean axial

@@ -586,6 +586,9 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
         if "quantity" in ds.coords:
             ensemble_ladder_macros(name, ds, macros)
         macros.add("val", f"{name}.distance_percent", format(100 * float(a.get("worst_distance", 0.0)), ".2g"))
+        # a frictionless l0 ladder: its pitch against the discrete chain's helix (theory.discrete_helix)
+        macros.add("val", f"{name}.pitch_theory", format(100 * float(a["pitch_theory_deviation"]), ".2g") + " %"
+                   if "pitch_theory_deviation" in a else "not measured")
         cells = [tex_escape(name), tex_escape(str(a["parameter"]))]
         cells += [tex_value(fmt(float(x)))[0] for x in (a["L"], a["load"], a["k_fr"], a["publication_value"])]
         tol = tex_value(fmt(100 * float(a["tolerance"])))[0]
@@ -684,6 +687,17 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
 
     macros.add("val", f"{name}.seeds", str(int(ds["n_seeds"].values.min())))
     finest = ds.sizes["rung"] - 1
+    pub = int(np.flatnonzero(np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9))[0])
+    from ..analysis.regions import REGIONS
+
+    for r, region in enumerate(REGIONS):
+        # the shift of F(L) between the publication and the finest rung, split by region (analysis.regions)
+        if "F_shift_by_region" in ds and int(ds["F_shift_by_region_has"].values[pub]):
+            macros.add_text("val", f"{name}.region.{region}",
+                            f"{100 * float(ds['F_shift_by_region'].values[pub, r]):+.2g} +- "
+                            f"{100 * float(ds['F_shift_by_region_se'].values[pub, r]):.2g} %")
+        else:
+            macros.add("val", f"{name}.region.{region}", "not measured")
     quantities = list(ds["quantity"].values)
     for quantity in (*RELATION_KEYS, *STATE_KEYS):
         q = quantities.index(quantity) if quantity in quantities else None

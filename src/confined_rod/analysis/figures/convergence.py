@@ -57,7 +57,7 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from ... import layout
+from ... import layout, theory
 from ...errors import ConfigError
 from .. import distributions, ensembles, local_relations, regions, run_checks
 from .. import plotting as P
@@ -238,6 +238,9 @@ def _ladder(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=
     data, order, limit, dist, notes = {}, [], [], [], []
     for k in OBSERVABLES:
         data[k] = variable(("rung",), obs[k], k)
+    pitch_theory = _discrete_helix_pitch(param, items) if helical.all() else None
+    if pitch_theory is not None:
+        data["pitch_theory"] = variable(("rung",), pitch_theory, "pitch_theory")
     for k in checked:
         p, lim, note = richardson(h, obs[k], resolved=0.1 * tol * abs(obs[k][-1]))
         order.append(p)
@@ -271,7 +274,24 @@ def _ladder(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=
                      "tolerance": tol, "status": status, "worst_distance": worst,
                      "notes": "; ".join(f"{k}: {n}" for k, n in zip(checked, notes)),
                      "method": "Richardson extrapolation from the three finest rungs"})
+    if pitch_theory is not None:
+        ds.attrs["pitch_theory_deviation"] = float(np.max(np.abs(obs["pitch"] / pitch_theory - 1.0)))
     return ds
+
+
+def _discrete_helix_pitch(param: str, items) -> np.ndarray | None:
+    """The pitch of the discrete chain's torque-free helix at each rung's load and l0
+    (theory.discrete_helix: the l0 dependence of a frictionless helix is the azimuth per link,
+    x/asin(x) with x = w l0/2), for an l0 ladder of frictionless rods; None for any other."""
+    need = ("k_fr", "load", "l0", "R", "EI")
+    if param != "l0" or any(k not in d.attrs for _, d in items for k in need) \
+            or any(float(d.attrs["k_fr"]) != 0.0 for _, d in items):
+        return None
+    try:
+        return np.array([theory.discrete_helix(float(d.attrs["load"]), float(d.attrs["l0"]), float(d.attrs["R"]),
+                                               float(d.attrs["EI"]))["pitch"] for _, d in items])
+    except ValueError:          # a load no helix on the wall carries
+        return None
 
 
 TITLE_WIDTH, TITLE_LINES = 95, 2
@@ -500,6 +520,25 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
               "member": variable(("member",), np.arange(has.shape[1]), "member"),
               "observable": xr.Variable(("observable",), np.array(shown, dtype=object), attrs=attrs("observable")),
               "quantity": xr.Variable(("quantity",), np.array(quantities, dtype=object), attrs=attrs("quantity"))}
+    # every coarser rung against the finest: where along the rod the transmitted force moves
+    splits = [_split_by_region(sims, groups, i, len(groups) - 1) for i in range(len(groups) - 1)]
+    if ipub < len(groups) - 1 and splits[ipub] is not None:
+        nreg = len(regions.REGIONS)
+        shift = np.array([sp[0] if sp else np.zeros(nreg) for sp in splits] + [np.zeros(nreg)])
+        se = np.array([sp[1] if sp else np.zeros(nreg) for sp in splits] + [np.zeros(nreg)])
+        data["F_shift_by_region"] = variable(("rung", "region"), shift, "F_shift_by_region")
+        data["F_shift_by_region_se"] = variable(("rung", "region"), se, "F_shift_by_region_se")
+        data["F_shift_by_region_has"] = xr.Variable(("rung",), np.array([sp is not None for sp in splits] + [False],
+                                                                         dtype=np.int8),
+                                                    attrs={"long_name": "1 where the rung's shift against the finest "
+                                                           "rung is split by region", "units": "1"})
+        coords["region"] = xr.Variable(("region",), np.array(regions.REGIONS, dtype=object), attrs=attrs("rod_region"))
+        for i, sp in enumerate(splits):
+            if sp is not None:
+                notes.append(f"F_transmitted at {values[i]:g} against {values[-1]:g} by region from the loaded end "
+                             f"({sp[2]} paired seeds, -F(L) times the change of what the region adds to 1/|F_z|): "
+                             + ", ".join(f"{r} {100 * a:+.2g} +- {100 * b:.2g} %"
+                                         for r, a, b in zip(regions.REGIONS, sp[0], sp[1])))
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"parameter": param, "refinement": hname, "publication_value": publication_value,
                      "tolerance": tol, "distribution_tolerance": dist_tol, "status": status,
@@ -512,6 +551,31 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                                 "by its 95 % bound, with the resolution at 95 % power and the Anderson-Darling "
                                 "k-sample p-value stated (analysis.distributions)")})
     return ds
+
+
+def _split_by_region(sims, groups, i: int, j: int) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """Where along the rod the transmitted force of rung i moves against rung j: per seed both rungs
+    ran with a bulk, -F_j(L) (X_i - X_j) for what each region adds to 1/|F_z| (regions.force_parts),
+    which sum to the first-order relative shift of F(L); their means over the seeds with standard
+    errors, and the number of seeds. None without friction or with fewer than two such seeds."""
+    if any(float(d.attrs["k_fr"]) <= 0.0 for d in sims.values()):
+        return None
+
+    def by_seed(group):
+        out = {}
+        for name in group:
+            d = sims[name]
+            parts = regions.force_parts(d)
+            if parts is not None:
+                out[int(d.attrs["seed"])] = (parts, float(np.abs(d["F_z"].values[-1])))
+        return out
+
+    a, b = by_seed(groups[i]), by_seed(groups[j])
+    common = sorted(set(a) & set(b))
+    if len(common) < 2:
+        return None
+    d = np.array([[-b[s][1] * (a[s][0][r] - b[s][0][r]) for r in regions.REGIONS] for s in common])
+    return d.mean(axis=0), d.std(axis=0, ddof=1) / math.sqrt(len(common)), len(common)
 
 
 def _or_nan(v) -> float:
@@ -531,6 +595,9 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
                 + ", ".join(f"{k} {100 * d:.3g} %" for k, d in zip(ds["observable"].values,
                                                                     ds["publication_distance"].values))
                 + f" from the extrapolated limit (tolerance {100 * ds.attrs['tolerance']:g} %): {status}")
+        if "pitch_theory_deviation" in ds.attrs:
+            line += (f"; the pitch is that of the discrete chain's torque-free helix (theory.discrete_helix) "
+                     f"within {100 * ds.attrs['pitch_theory_deviation']:.2g} % on every rung")
     word = verdict_word(status)
     if word == "fail" or (word == "inconclusive" and on_inconclusive == "fail"):
         raise ConvergenceError(line)
@@ -590,6 +657,8 @@ def plot(ds: xr.Dataset):
                         elinewidth=0.9, capsize=2.5)
         ax.plot(h, f, "o", ms=4.5, **P.SIM, label="ensemble means, 95 % interval" if ensemble else "rungs")
         ax.plot(h[pub], f[pub], "s", ms=9, mfc="none", mec="tab:green", mew=1.4, label="publication setting")
+        if k == "pitch" and "pitch_theory" in ds:
+            ax.plot(h, ds["pitch_theory"].values, "x", ms=7, color="tab:red", label="discrete helix (theory)")
         lim = float(ds[f"{k}_limit"]) if f"{k}_limit" in ds else None
         if lim is not None:
             ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else "Richardson limit")
