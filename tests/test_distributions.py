@@ -55,9 +55,10 @@ def test_decisions():
     # a small ensemble cannot resolve the tolerance: undecided, with the seeds that would
     small = D.compare(rng.normal(1.0, 0.05, 5), rng.normal(1.0, 0.05, 5), tolerance=0.02)
     assert small.verdict == D.UNDECIDED and small.seeds_needed > 5
-    # the seeds it names do decide when the spread is as measured: resolution at that n <= tol
+    # the seeds it names do decide when the spread is as measured (with the large-sample factors
+    # such an ensemble has): resolution at that n <= tol
     s = small
-    assert s.resolution * math.sqrt(5 / s.seeds_needed) <= 0.02 * (1 + 1e-9)
+    assert (D.Z_ALPHA + D.Z_POWER) * s.se * math.sqrt(5 / s.seeds_needed) <= 0.02 * (1 + 1e-9)
     assert "seeds per rung would decide" in s.text()
 
 
@@ -99,3 +100,21 @@ def test_pairing_removes_the_spread_a_seed_carries_on_both_rungs():
     assert D.compare(a, b2, 0.02, paired=True).se > 5 * paired.se
     with pytest.raises(ValueError, match="one value per seed"):
         D.compare(a, b[:7], 0.02, paired=True)
+
+
+def test_a_few_seeds_get_students_factor_not_the_normal_one():
+    """Three paired seeds estimate their spread with 2 degrees of freedom: the 95 % bound uses
+    t = 4.303 (scipy), not 1.96, and 40 seeds come close to the normal factor."""
+    from scipy.stats import t
+
+    a, b = np.array([1.00, 1.02, 0.99]), np.array([1.0, 1.0, 1.0])
+    c = D.compare(a, b, tolerance=0.5, paired=True)
+    assert c.dof == 2
+    assert c.bound == pytest.approx(abs(c.shift) + t.ppf(0.975, 2) * c.se, rel=1e-12)
+    assert c.resolution == pytest.approx((t.ppf(0.975, 2) + t.ppf(0.95, 2)) * c.se, rel=1e-12)
+    rng = np.random.default_rng(3)
+    big = D.compare(rng.normal(1, 0.05, 40), rng.normal(1, 0.05, 40), 0.05)
+    assert 70 < big.dof <= 78          # Welch-Satterthwaite for two equal spreads: about 2 n - 2
+    assert D.t_quantiles(big.dof)[0] == pytest.approx(D.Z_ALPHA, rel=0.03)
+    with pytest.raises(ValueError, match="degrees of freedom"):
+        D.t_quantiles(0)

@@ -286,7 +286,8 @@ def test_ensemble_ladder_passes_when_relations_and_states_agree():
     F = ds["F_transmitted_member"].values
     np.testing.assert_allclose(ds["F_transmitted_sem"].values, F.std(axis=1, ddof=1) / np.sqrt(30), rtol=1e-12)
     res = ds["cmp_resolution"].values[2, q.index("F_transmitted")]
-    assert res == pytest.approx((distributions.Z_ALPHA + distributions.Z_POWER)
+    # 30 paired seeds: Student's factors with 29 degrees of freedom
+    assert res == pytest.approx(sum(distributions.t_quantiles(29))
                                 * ds["cmp_shift_se"].values[2, q.index("F_transmitted")], rel=1e-12)
     assert res <= 0.03
 
@@ -317,6 +318,8 @@ def test_the_shift_of_the_transmitted_force_is_split_by_region_from_the_loaded_e
     assert part["bulk"] > 0.05 and abs(part["tip"]) < 1e-3 * part["bulk"]
     assert "F_transmitted at 0.5 against 0.25 by region from the loaded end (3 paired seeds" in ds.attrs["notes"]
     assert ds["F_shift_by_region_has"].values.tolist() == [1, 1, 0]
+    assert ds["F_shift_split_total"].values[1] == pytest.approx(sum(part.values()), rel=1e-12)
+    assert int(ds["F_shift_split_seeds"].values[1]) == 3
     assert _ladder((0.27, 0.27, 0.27), relations=(1.1, 1.1, 1.2), n_seeds=1).get("F_shift_by_region") is None
 
 

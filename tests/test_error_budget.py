@@ -9,17 +9,20 @@ import xarray as xr
 from confined_rod.analysis import error_budget as eb
 
 
-def ladder(parameter, L, shifts, load=0.25, k_fr=0.8, protocol="straight"):
+def ladder(parameter, L, shifts, load=0.25, k_fr=0.8, protocol="straight", dof=None):
     """A convergence dataset as the kind stores it: three rungs, the publication rung in the middle,
-    ``shifts`` = {quantity: (shift, se)} of the publication rung against the finest rung."""
+    ``shifts`` = {quantity: (shift, se)} of the publication rung against the finest rung; ``dof``
+    the degrees of freedom of se (None: no cmp_dof variable, the normal limit)."""
     q = list(shifts)
     shift, se, code = np.zeros((3, len(q))), np.zeros((3, len(q))), np.zeros((3, len(q)), dtype=np.int8)
     for j, k in enumerate(q):
         shift[2, j], se[2, j] = shifts[k]
         code[2, j] = 1
-    ds = xr.Dataset({"cmp_shift": (("rung", "quantity"), shift), "cmp_shift_se": (("rung", "quantity"), se),
-                     "cmp_verdict_code": (("rung", "quantity"), code)},
-                    coords={"quantity": ("quantity", np.array(q, dtype=object))})
+    data = {"cmp_shift": (("rung", "quantity"), shift), "cmp_shift_se": (("rung", "quantity"), se),
+            "cmp_verdict_code": (("rung", "quantity"), code)}
+    if dof is not None:
+        data["cmp_dof"] = (("rung", "quantity"), np.full((3, len(q)), float(dof)))
+    ds = xr.Dataset(data, coords={"quantity": ("quantity", np.array(q, dtype=object))})
     ds.attrs.update(kind="convergence", parameter=parameter, L=L, load=load, k_fr=k_fr, protocol=protocol)
     return ds
 
@@ -53,8 +56,8 @@ def test_bias_is_the_publication_rungs_shift_and_the_bound_the_root_sum_of_squar
     i = list(ds["headline"].values).index(h_num.key)
     assert ds["bias"].values[i, p.index("l0")] == pytest.approx(-0.016)
     assert ds["bias_se"].values[i, p.index("l0")] == pytest.approx(0.0056)
-    expect = math.hypot(0.016 + 1.96 * 0.0056, 0.0001)
-    assert ds["bias_bound"].values[i] == pytest.approx(expect)
+    expect = math.hypot(0.016 + eb.Z95 * 0.0056, 0.0001)
+    assert ds["bias_bound"].values[i] == pytest.approx(expect, rel=1e-12)
     assert row(ds, h_num.key)["limited_by"] == "numerics"
     assert row(ds, h_stat.key)["limited_by"] == "statistics"
     assert ds["stat_error"].values[i] == pytest.approx(0.005)      # relative
@@ -164,3 +167,32 @@ def test_budget_labels_set_their_units_in_math_and_escape_the_rest():
     assert tex == r"first threshold [$\pi^2 EI/L^2$], $L/R$ = 10 (thr\_L10)"
     assert manuscript.budget_label_tex("bulk decay rate / (k_fr R/4EI), panel a") == \
         r"bulk decay rate / ($k_{\rm fr}R/4EI$), panel a"
+
+
+def test_few_seeds_get_students_factor_and_a_shift_from_another_rod_is_flagged_transferred():
+    """Five seeds: the statistical 95 % half-width is t(4) = 2.776 standard errors, not 1.96; a
+    ladder comparison of 10 paired seeds bounds its shift with t(9) = 2.262; the l0 ladder at
+    L/R = 80 stands for a number at L/R = 320 as a transferred term, one at L/R = 80 is not."""
+    from scipy.stats import t
+
+    lads = {"conv_l0": ladder("l0", 80, {"F_transmitted": (-0.016, 0.0056)}, dof=9)}
+    far, near = headline(L=320.0, value=0.1, se=0.002), headline(L=80.0, value=0.1, se=0.002)
+    ds = budget([far, near], lads)
+    p = list(ds["budget_parameter"].values).index("l0")
+    r_far, r_near = row(ds, far.key), row(ds, near.key)
+    assert r_far["stat_95_percent"] == pytest.approx(100 * t.ppf(0.975, 4) * 0.02, rel=1e-9)
+    i = list(ds["headline"].values).index(far.key)
+    assert ds["bias_bound"].values[i] == pytest.approx(0.016 + t.ppf(0.975, 9) * 0.0056, rel=1e-9)
+    assert ds["bias_transferred"].values[i, p] == 1 and r_far["transferred"] == "l0"
+    assert r_far["largest_transferred"] == "yes" and r_near["largest_transferred"] == "no"
+    assert "transferred" in str(ds["bias_source"].values[i, p])
+
+
+def test_a_share_of_seeds_has_its_wilson_interval():
+    from confined_rod.analysis.figures.transition import wilson_interval
+
+    lo, hi = wilson_interval(5, 10)
+    assert (lo, hi) == pytest.approx((0.2366, 0.7634), abs=1e-4)       # the textbook values for 5/10
+    assert wilson_interval(0, 10)[0] == 0.0 and wilson_interval(0, 10)[1] == pytest.approx(0.2775, abs=1e-4)
+    with pytest.raises(ValueError, match="k = 11"):
+        wilson_interval(11, 10)

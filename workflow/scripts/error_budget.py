@@ -12,8 +12,9 @@ with logged(sm.log[0]):
     datasets = {f: xr.load_dataset(p) for f, p in zip(sm.params.figures, sm.input.datasets)}
     ds = error_budget.build(datasets, figures.headlines)
     for r in error_budget.rows(ds):
-        stat = "not measured" if r["stat_95_percent"] is None else f"{r['stat_95_percent']:.2g} %"
-        print(f"{r['headline']:45s} {r['value']:10.4g}  statistics {stat:>12s}  numerics "
-              f"{r['bias_95_percent']:.2g} %  ({r['largest_bias']}; limited by {r['limited_by']})")
+        stat, bias = (("not measured" if r[k] is None else f"{r[k]:.2g} %") for k in ("stat_95_percent",
+                                                                                     "bias_95_percent"))
+        print(f"{r['headline']:45s} {r['value']:10.4g}  statistics {stat:>12s}  numerics {bias:>12s}  "
+              f"({r['largest_bias']}; limited by {r['limited_by']})")
     write_dataset(ds, sm.output.nc)
     write_text(error_budget.to_csv(ds), sm.output.csv)

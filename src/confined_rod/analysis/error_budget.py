@@ -22,9 +22,15 @@ nature:
   of length lambda (L for the first threshold, L/2 for the second, the free span for an escape
   of Fig 8), replace the ladders.
 
-Each parameter's bias is bounded at 95 % by |delta_p| + 1.96 sigma_p; the bound of the number is
-the root sum of squares over the parameters (independent settings). It is set beside the
-statistical 95 % half-width 1.96 sd/sqrt(n): the larger one limits the number.
+Each parameter's bias is bounded at 95 % by |delta_p| + t sigma_p, t Student's quantile for the
+degrees of freedom of sigma_p (paired seeds less one); the bound of the number is the root sum of
+squares over the parameters (independent settings). It is set beside the statistical 95 %
+half-width t sd/sqrt(n) (n - 1 degrees of freedom; a share of seeds has its Wilson interval):
+the larger one limits the number. Two caveats the table states: the shift is measured to the
+finest rung, not to the limit (for a term of order p on a ladder halving h twice down to its
+finest rung the distance to the limit is 1/(1 - 4^-p) times it: 4/3 at first order); and a shift
+measured at another rod than the number's (another L, friction or load) is *transferred*, flagged
+per term (``bias_transferred``).
 
 The headlines come from the figure kinds (an optional ``headlines(figure, ds)`` in a kind module,
 returning :class:`Headline` objects); the ladders are every dataset of kind ``convergence`` with
@@ -39,10 +45,11 @@ import numpy as np
 import xarray as xr
 
 from ..io import finalize
+from .distributions import t_quantiles
 from .figure_quantities import variable
 
-#: a headline's statistical error at 95 %: this many standard errors
-Z95 = 1.96
+#: the large-sample factor of a 95 % interval (Student's t for few seeds: distributions.t_quantiles)
+Z95 = 1.959963984540054
 #: the numerical parameters a budget reads from the ladders, in the order of the table
 LADDER_PARAMETERS = ("l0", "k_ph", "k_w", "k_t", "tol", "dx_max", "ramp_steps")
 #: the bias terms of a threshold (no ladder varies one)
@@ -69,6 +76,15 @@ class Headline:
     #: relative bias terms known without a ladder (THRESHOLD_TERMS), as (value, why)
     terms: Mapping[str, tuple[float, str]] = field(default_factory=dict)
     note: str = ""
+    #: degrees of freedom of stat_error: None for n_seeds - 1 (a mean over seeds); inf where
+    #: stat_error is already the 95 % half-width over Z95 (a Wilson interval)
+    dof: float | None = None
+
+    @property
+    def stat_factor(self) -> float:
+        """The factor of stat_error that gives its 95 % half-width (Student's t, or Z95)."""
+        dof = self.n_seeds - 1.0 if self.dof is None else self.dof
+        return t_quantiles(dof)[0] if dof > 0 else math.inf
 
 
 def euler_discretisation(l0: float, wavelength: float) -> float:
@@ -88,8 +104,9 @@ class Ladder:
     load: float
     k_fr: float
     protocol: str
-    #: quantity -> (relative shift of the publication rung from the finest, its standard error)
-    shifts: Mapping[str, tuple[float, float]]
+    #: quantity -> (relative shift of the publication rung from the finest, its standard error,
+    #: the degrees of freedom of that error)
+    shifts: Mapping[str, tuple[float, float, float]]
 
 
 def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
@@ -103,8 +120,9 @@ def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
         shifts = {}
         for q, k in enumerate(ds["quantity"].values):
             if int(ds["cmp_verdict_code"].values[finest, q]) != 0:
+                dof = float(ds["cmp_dof"].values[finest, q]) if "cmp_dof" in ds else -1.0   # -1: normal
                 shifts[str(k)] = (float(ds["cmp_shift"].values[finest, q]),
-                                  float(ds["cmp_shift_se"].values[finest, q]))
+                                  float(ds["cmp_shift_se"].values[finest, q]), dof if dof > 0 else math.inf)
         a = ds.attrs
         out.append(Ladder(name, str(a["parameter"]), float(a["L"]), float(a["load"]), float(a["k_fr"]),
                           str(a.get("protocol", "straight")), shifts))
@@ -145,13 +163,15 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
     ladders = ladders_of(datasets)
     H, P = len(heads), len(PARAMETERS)
     bias, bias_se, has_bias = np.zeros((H, P)), np.zeros((H, P)), np.zeros((H, P), dtype=np.int8)
+    bias_t, moved = np.full((H, P), Z95), np.zeros((H, P), dtype=np.int8)
     source = np.full((H, P), "", dtype=object)
-    value, stat, has_stat = np.zeros(H), np.zeros(H), np.zeros(H, dtype=np.int8)
+    value, stat, has_stat, stat_t = np.zeros(H), np.zeros(H), np.zeros(H, dtype=np.int8), np.full(H, Z95)
     bound, limited = np.zeros(H), np.zeros(H, dtype=np.int8)
     for i, h in enumerate(heads):
         value[i] = h.value
-        if h.stat_error is not None and h.value != 0:     # a relative error of 0 is undefined
-            stat[i], has_stat[i] = abs(h.stat_error) / abs(h.value), 1
+        if h.stat_error is not None and h.value != 0 and math.isfinite(h.stat_factor):
+            # a relative error of 0 is undefined, one of a single seed unknown
+            stat[i], has_stat[i], stat_t[i] = abs(h.stat_error) / abs(h.value), 1, h.stat_factor
         for p, name in enumerate(PARAMETERS):
             if name in h.terms:
                 bias[i, p], source[i, p] = h.terms[name]
@@ -159,13 +179,16 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
                 continue
             lad = match(h, name, ladders) if name in LADDER_PARAMETERS else None
             if lad is not None:
-                bias[i, p], bias_se[i, p] = lad.shifts[h.quantity]
+                bias[i, p], bias_se[i, p], dof = lad.shifts[h.quantity]
+                bias_t[i, p] = t_quantiles(dof)[0]
                 has_bias[i, p] = 1
-                source[i, p] = f"{lad.name} (L/R = {lad.L:g})"
-        per = np.abs(bias[i]) + Z95 * bias_se[i]
+                moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
+                source[i, p] = (f"{lad.name} (L/R = {lad.L:g}, k_fr = {lad.k_fr:g}, load = {lad.load:g}"
+                                + ("; transferred)" if moved[i, p] else ")"))
+        per = np.abs(bias[i]) + bias_t[i] * bias_se[i]
         bound[i] = float(np.sqrt(np.sum(np.where(has_bias[i] == 1, per, 0.0) ** 2)))
-        limited[i] = (LIMITED_BY.index("unknown") if not has_stat[i] else
-                      LIMITED_BY.index("numerics") if bound[i] > Z95 * stat[i] else LIMITED_BY.index("statistics"))
+        limited[i] = LIMITED_BY.index("unknown" if not has_stat[i] else
+                                      "numerics" if bound[i] > stat_t[i] * stat[i] else "statistics")
     coords = {"headline": variable(("headline",), np.array([h.key for h in heads], dtype=object), "headline"),
               "budget_parameter": variable(("budget_parameter",), np.array(PARAMETERS, dtype=object),
                                            "budget_parameter")}
@@ -181,16 +204,21 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
         "headline_value": variable(("headline",), value, "headline_value"),
         "n_seeds": variable(("headline",), np.array([h.n_seeds for h in heads], dtype=np.int32), "n_seeds"),
         "stat_error": variable(("headline",), stat, "stat_error"),
+        "stat_factor": variable(("headline",), stat_t, "stat_factor"),
         "has_stat_error": variable(("headline",), has_stat, "has_stat_error"),
         "bias": variable(("headline", "budget_parameter"), bias, "bias"),
         "bias_se": variable(("headline", "budget_parameter"), bias_se, "bias_se"),
         "has_bias": variable(("headline", "budget_parameter"), has_bias, "has_bias"),
         "bias_source": variable(("headline", "budget_parameter"), source, "bias_source"),
+        "bias_factor": variable(("headline", "budget_parameter"), bias_t, "bias_factor"),
+        "bias_transferred": variable(("headline", "budget_parameter"), moved, "bias_transferred"),
         "bias_bound": variable(("headline",), bound, "bias_bound"),
         "limited_by": variable(("headline",), limited, "limited_by"),
     }
     for flag in ("has_stat_error", "has_bias"):
         data[flag].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="not_measured measured")
+    data["bias_transferred"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8),
+                                          flag_meanings="measured_at_this_rod measured_at_another_rod")
     data["limited_by"].attrs.update(flag_values=np.arange(len(LIMITED_BY), dtype=np.int8),
                                     flag_meanings=" ".join(LIMITED_BY))
     return finalize(xr.Dataset(data, coords=coords),
@@ -212,19 +240,23 @@ def rows(ds: xr.Dataset) -> list[dict[str, str | float]]:
     out = []
     params = [str(p) for p in ds["budget_parameter"].values]
     for i, key in enumerate(ds["headline"].values):
-        per = (np.abs(ds["bias"].values[i]) + Z95 * ds["bias_se"].values[i]) * ds["has_bias"].values[i]
+        per = (np.abs(ds["bias"].values[i]) + ds["bias_factor"].values[i] * ds["bias_se"].values[i]) \
+            * ds["has_bias"].values[i]
         j = int(np.argmax(per))
         measured = [p for p, m in zip(params, ds["has_bias"].values[i]) if m]
+        moved = [p for p, m in zip(params, ds["bias_transferred"].values[i]) if m]
         out.append({
             "headline": str(key), "figure": str(ds["headline_figure"].values[i]),
             "label": str(ds["headline_label"].values[i]), "value": float(ds["headline_value"].values[i]),
             "n_seeds": int(ds["n_seeds"].values[i]),
-            "stat_95_percent": (100 * Z95 * float(ds["stat_error"].values[i]) if ds["has_stat_error"].values[i]
-                                else None),
-            "bias_95_percent": 100 * float(ds["bias_bound"].values[i]),
+            "stat_95_percent": (100 * float(ds["stat_factor"].values[i] * ds["stat_error"].values[i])
+                                if ds["has_stat_error"].values[i] else None),
+            "bias_95_percent": 100 * float(ds["bias_bound"].values[i]) if measured else None,
             "largest_bias": _term(params[j], float(ds["bias"].values[i, j]), float(ds["bias_se"].values[i, j]))
             if per[j] > 0 else "none measured",
+            "largest_transferred": "yes" if params[j] in moved and per[j] > 0 else "no",
             "measured": " ".join(measured),
+            "transferred": " ".join(moved),
             "not_measured": " ".join(p for p in expected(str(ds["headline_quantity"].values[i]),
                                                          str(ds["headline_protocol"].values[i]))
                                      if p not in measured),

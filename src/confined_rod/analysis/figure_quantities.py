@@ -51,6 +51,10 @@ FIGURE_QUANTITIES = [
     Quantity("F_shift_by_region", "\\delta F_{region}/F", "share of the relative shift of the transmitted force "
              "|F_z(L)| between the publication rung and the finest rung of a ladder that a region of the rod "
              "carries, mean over paired seeds of -F(L) times the change of what the region adds to 1/|F_z|", "1"),
+    Quantity("F_shift_split_seeds", "n", "paired seeds with a bulk on both rungs over which F_shift_by_region is "
+             "taken", "1"),
+    Quantity("F_shift_split_total", "\\delta F/F", "sum over the regions of F_shift_by_region: the first-order "
+             "relative shift of |F_z(L)| over the seeds of the split", "1"),
     Quantity("F_shift_by_region_se", "\\sigma", "standard error of F_shift_by_region over the paired seeds", "1"),
     Quantity("pitch_theory", "P_{th}", "pitch of the discrete chain's torque-free helix on the wall at the load, "
              "2 pi l0 sqrt(1 - R^2 w^2)/(2 asin(w l0/2)) (theory.discrete_helix)", "R"),
@@ -72,6 +76,8 @@ FIGURE_QUANTITIES = [
     Quantity("quantity", "", "quantity compared between the rungs", "1"),
     Quantity("rod_region", "", "region of the rod, from the loaded end: tip, bulk helix, lower region", "1"),
     Quantity("shift", r"\delta", "relative shift of the publication rung's ensemble mean from this rung's", "1"),
+    Quantity("dof", r"\nu", "degrees of freedom of the shift's standard error (paired seeds less one; "
+             "Welch-Satterthwaite unpaired)", "1"),
     Quantity("shift_se", r"\sigma_\delta", "standard error of the relative shift (Welch)", "1"),
     Quantity("resolution", r"\delta_{95}", "smallest relative shift of the mean detected with 95 % power by a "
              "two-sided 5 % test of these ensembles", "1"),
@@ -320,6 +326,8 @@ FIGURE_QUANTITIES = [
     Quantity("headline_value", "", "headline number, in the reduced unit its label states", "1"),
     Quantity("stat_error", r"\sigma_{stat}", "relative standard error of the headline number over seeds "
              "(0 where not measured: has_stat_error)", "1"),
+    Quantity("stat_factor", "t", "factor of stat_error giving its 95 % half-width: Student's t for n_seeds - 1 "
+             "degrees of freedom (1.96 for a Wilson interval)", "1"),
     Quantity("has_stat_error", "", "the statistical error is measured (1) or not (0: a single frictional run)", "1"),
     Quantity("bias", r"\delta_p", "relative numerical bias of the headline from this parameter: the shift of the "
              "publication rung's ensemble mean from the finest rung of its ladder, or a bias term of a threshold",
@@ -327,10 +335,14 @@ FIGURE_QUANTITIES = [
     Quantity("bias_se", r"\sigma_p", "standard error of the relative numerical bias (0 for a bias term known "
              "exactly)", "1"),
     Quantity("has_bias", "", "the bias from this parameter is measured (1) or not (0)", "1"),
+    Quantity("bias_factor", "t", "factor of bias_se in the 95 % bound of this bias term: Student's t for the "
+             "ladder comparison's degrees of freedom", "1"),
+    Quantity("bias_transferred", "", "the bias term was measured at another rod (L, k_fr or load) than the "
+             "headline's and transferred as a relative shift (1) or at the headline's rod (0)", "1"),
     Quantity("bias_source", "", "where the bias was measured (ladder and its rod) or how it is known", "1"),
     Quantity("bias_bound", r"B_{95}", "95 % bound of the relative numerical bias: root sum of squares over the "
-             "parameters of |delta_p| + 1.96 sigma_p", "1"),
-    Quantity("limited_by", "", "what limits the headline number: 0 its statistics (1.96 sigma_stat >= B_95), "
+             "parameters of |delta_p| + t sigma_p (bias_factor)", "1"),
+    Quantity("limited_by", "", "what limits the headline number: 0 its statistics (t sigma_stat >= B_95), "
              "1 its numerics, 2 unknown (statistical error not measured)", "1"),
 ]
 

@@ -491,7 +491,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     shape = (len(groups), len(quantities))
     cmp_vars = {"shift": np.zeros(shape), "shift_se": np.zeros(shape), "resolution": np.zeros(shape),
                 "p_ad": np.ones(shape), "verdict_code": np.zeros(shape, dtype=np.int8),
-                "seeds_needed": np.zeros(shape), "compared_tolerance": np.zeros(shape)}
+                "seeds_needed": np.zeros(shape), "compared_tolerance": np.zeros(shape), "dof": np.zeros(shape)}
     for j, k, c in zip(table["rung"], table["quantity"], table["cmp"]):
         q = quantities.index(k)
         cmp_vars["shift"][j, q], cmp_vars["shift_se"][j, q] = c.shift, c.se
@@ -499,6 +499,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
         cmp_vars["verdict_code"][j, q] = VERDICT_CODE[c.verdict]
         cmp_vars["seeds_needed"][j, q] = -1.0 if math.isinf(c.seeds_needed) else c.seeds_needed
         cmp_vars["compared_tolerance"][j, q] = c.tolerance
+        cmp_vars["dof"][j, q] = -1.0 if math.isinf(c.dof) else c.dof       # -1: the normal limit
     for name, arr in cmp_vars.items():
         data[f"cmp_{name}"] = variable(("rung", "quantity"), arr, name)
     data["n_turns_member"] = xr.Variable(("rung", "member"), pad.values(n_turns), attrs={
@@ -523,9 +524,14 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     # every coarser rung against the finest: where along the rod the transmitted force moves
     splits = [_split_by_region(sims, groups, i, len(groups) - 1) for i in range(len(groups) - 1)]
     if ipub < len(groups) - 1 and splits[ipub] is not None:
-        nreg = len(regions.REGIONS)
+        nreg = len(regions.REGIONS) + 1
         shift = np.array([sp[0] if sp else np.zeros(nreg) for sp in splits] + [np.zeros(nreg)])
         se = np.array([sp[1] if sp else np.zeros(nreg) for sp in splits] + [np.zeros(nreg)])
+        data["F_shift_split_seeds"] = variable(("rung",), np.array([sp[2] if sp else 0 for sp in splits] + [0]),
+                                               "F_shift_split_seeds")
+        data["F_shift_split_total"] = variable(("rung",), shift[:, -1], "F_shift_split_total")
+        data["F_shift_split_total_se"] = variable(("rung",), se[:, -1], "F_shift_by_region_se")
+        shift, se = shift[:, :-1], se[:, :-1]
         data["F_shift_by_region"] = variable(("rung", "region"), shift, "F_shift_by_region")
         data["F_shift_by_region_se"] = variable(("rung", "region"), se, "F_shift_by_region_se")
         data["F_shift_by_region_has"] = xr.Variable(("rung",), np.array([sp is not None for sp in splits] + [False],
@@ -538,7 +544,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                 notes.append(f"F_transmitted at {values[i]:g} against {values[-1]:g} by region from the loaded end "
                              f"({sp[2]} paired seeds, -F(L) times the change of what the region adds to 1/|F_z|): "
                              + ", ".join(f"{r} {100 * a:+.2g} +- {100 * b:.2g} %"
-                                         for r, a, b in zip(regions.REGIONS, sp[0], sp[1])))
+                                         for r, a, b in zip((*regions.REGIONS, "sum"), sp[0], sp[1])))
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"parameter": param, "refinement": hname, "publication_value": publication_value,
                      "tolerance": tol, "distribution_tolerance": dist_tol, "status": status,
@@ -575,6 +581,8 @@ def _split_by_region(sims, groups, i: int, j: int) -> tuple[np.ndarray, np.ndarr
     if len(common) < 2:
         return None
     d = np.array([[-b[s][1] * (a[s][0][r] - b[s][0][r]) for r in regions.REGIONS] for s in common])
+    # the regions' sum as a fourth column: the first-order shift of F(L) over these seeds
+    d = np.column_stack([d, d.sum(axis=1)])
     return d.mean(axis=0), d.std(axis=0, ddof=1) / math.sqrt(len(common)), len(common)
 
 
@@ -604,10 +612,11 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
     return line
 
 
-_H_LABEL = {"l0": r"$h = l_0$ [$R$]", "k_ph": r"$h = 1/k_{ph}$ [$R^2/EI$]", "k_w": r"$h = 1/k_w$ [$R^3/EI$]",
-            "k_t": r"$h = 1/k_t$ [$R^3/EI$]", "tol": r"$h = \mathrm{tol}$", "ramp_steps": r"$h = 1/n_{ramp}$",
-            "dx_max": r"$h = dx_{max}$ [$R$]"}
-
+#: the refinement axis: h on a log scale, ticked at the rungs by the parameter's value
+_X_LABEL = {"l0": r"$l_0$ [$R$] (axis: $h = l_0$)", "k_ph": r"$k_{ph}$ [$EI/R^2$] (axis: $h = 1/k_{ph}$)",
+            "k_w": r"$k_w$ [$EI/R^3$] (axis: $h = 1/k_w$)", "k_t": r"$k_t$ [$EI/R^3$] (axis: $h = 1/k_t$)",
+            "tol": r"tol (axis: $h$ = tol)", "ramp_steps": r"$n_{ramp}$ (axis: $h = 1/n_{ramp}$)",
+            "dx_max": r"$dx_{max}$ [$R$] (axis: $h = dx_{max}$)"}
 
 def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> None:
     """A paired ladder (every rung starts a seed from the same rod): each seed's values joined
@@ -616,6 +625,19 @@ def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> N
     for s in np.unique(seeds[has]):
         at = [(h[i], v[i, list(seeds[i]).index(s)]) for i in range(len(h)) if s in seeds[i][has[i]]]
         ax.plot(*zip(*at), "-", **P.SEEDS, lw=0.5, zorder=1)
+
+
+def _rung_ticks(ax, ds: xr.Dataset) -> None:
+    """The refinement axis ticked at the rungs, labelled by the parameter's value (a ramp's step
+    count, k's value, ...), so that every rung is named; the log axis keeps no other labels."""
+    from matplotlib import ticker
+
+    h, values = ds["h"].values, ds["value"].values
+    ax.xaxis.set_major_locator(ticker.FixedLocator(h))
+    ax.xaxis.set_major_formatter(ticker.FixedFormatter([f"{v:g}" for v in values]))
+    ax.xaxis.set_minor_formatter(ticker.NullFormatter())
+    if len(h) and max(len(f"{v:g}") for v in values) > 4:
+        ax.tick_params(axis="x", labelrotation=30)
 
 
 def plot(ds: xr.Dataset):
@@ -641,8 +663,8 @@ def plot(ds: xr.Dataset):
             ax.set_title("not checked: rung(s) " + ", ".join(f"{v:g}" for v in ds["value"].values[~helical])
                          + " not helical", fontsize=7.5)
             ax.set_xscale("log")
-            P.plain_log_ticks(ax.xaxis)
-            ax.set_xlabel(_H_LABEL[param])
+            _rung_ticks(ax, ds)
+            ax.set_xlabel(_X_LABEL[param])
             ax.set_ylabel(label(k))
             continue
         tol = float(ds.attrs["distribution_tolerance"] if ensemble and k in STATE_KEYS else ds.attrs["tolerance"])
@@ -653,7 +675,8 @@ def plot(ds: xr.Dataset):
             ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, **P.SEEDS, label="single seeds")
             if ds.attrs.get("paired"):
                 _seed_lines(ax, ds, k, h, has)
-            ax.errorbar(h, f, yerr=distributions.Z_ALPHA * ds[f"{k}_sem"].values, fmt="none", ecolor="black",
+            t95 = [distributions.t_quantiles(n - 1.0)[0] if n > 1 else 0.0 for n in has.sum(axis=1)]
+            ax.errorbar(h, f, yerr=np.array(t95) * ds[f"{k}_sem"].values, fmt="none", ecolor="black",
                         elinewidth=0.9, capsize=2.5)
         ax.plot(h, f, "o", ms=4.5, **P.SIM, label="ensemble means, 95 % interval" if ensemble else "rungs")
         ax.plot(h[pub], f[pub], "s", ms=9, mfc="none", mec="tab:green", mew=1.4, label="publication setting")
@@ -671,7 +694,8 @@ def plot(ds: xr.Dataset):
             if rows.size:
                 j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
                 word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])]
-                ax.set_title(f"shift {100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
+                ax.set_title(f"against {ds['value'].values[j]:g}: shift "
+                             f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
                              f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word} {100 * tol:g} %", fontsize=7.5)
             else:
@@ -685,8 +709,8 @@ def plot(ds: xr.Dataset):
         else:
             ax.set_title("not checked (not every rung is a helix)", fontsize=7.5)
         ax.set_xscale("log")
-        P.plain_log_ticks(ax.xaxis)
-        ax.set_xlabel(_H_LABEL[param])
+        _rung_ticks(ax, ds)
+        ax.set_xlabel(_X_LABEL[param])
         ax.set_ylabel(label(k))
     for ax in list(axes.flat)[len(obs):]:
         ax.set_visible(False)

@@ -189,6 +189,12 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
     of the span's Euler load; one frictional seed, so no statistical error. A rod repeated in
     other units (R = 2) is counted once."""
     out, seen = [], set()
+    folds = {}          # the fold threshold's bracket per rod (L/R, l0/R), in EI/R^2
+    for i, aspect in enumerate(ds["aspect"].values):
+        if float(ds["free_span"].values[i]) == 0.0:
+            scale = float(ds["threshold_R2_over_EI"].values[i])
+            folds[(float(aspect), float(ds["aspect_l0"].values[i]))] = (float(ds["threshold_lo"].values[i]) * scale,
+                                                                        float(ds["threshold_hi"].values[i]) * scale)
     for i, aspect in enumerate(ds["aspect"].values):
         lo, hi = float(ds["threshold_lo"].values[i]), float(ds["threshold_hi"].values[i])
         scale = float(ds["threshold_R2_over_EI"].values[i])
@@ -199,10 +205,15 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
         seen.add(rod)
         scene = str(ds["aspect_scene"].values[i])
         terms = {"bracket": ((hi - lo) / (hi + lo), "half the bisection's bracket")}
-        if span > 0:
+        fold = folds.get((float(aspect), float(ds["aspect_l0"].values[i])))
+        # a span whose escape brackets overlap the fold's: the rod folds before the span buckles, so
+        # the span's Euler load does not set the number
+        folds_first = span > 0 and fold is not None and lo * scale <= fold[1] and hi * scale >= fold[0]
+        if span > 0 and not folds_first:
             terms["discretisation"] = (euler_discretisation(float(ds["aspect_l0"].values[i]), span),
                                        "Euler load of the discrete free span (theory)")
-        what = f"escape threshold, span g/R = {span:g}" if span > 0 else "fold threshold"
+        what = (f"escape threshold, span g/R = {span:g}" + (" (folds first)" if folds_first else "")
+                if span > 0 else "fold threshold")
         out.append(Headline(f"{figure}.threshold.{scene}", figure, f"{what} [EI/R^2], L/R = {aspect:g} ({scene})",
                             0.5 * (lo + hi) * scale, None, 1, "threshold", float(aspect), 0.5 * (lo + hi),
                             float(ds.attrs.get("k_fr", 0.0)), terms=terms,

@@ -15,13 +15,14 @@ metastable "while the compressing force is not reduced" is tested.
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import xarray as xr
 
 from ...errors import ConfigError, SceneError
 from .. import plotting as P
-from ..error_budget import Headline
+from ..error_budget import Z95, Headline
 from ..figure_quantities import variable
 from ..measure import defects
 from ._common import need_scenes, same_except, scene_coord
@@ -124,14 +125,27 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
 
 
 def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
-    """The error budget's number: the share of seeds whose helix forms with a defect, with the
-    binomial standard error sqrt(p(1-p)/n) at p = (k+1)/(n+2) (never 0 for a finite ensemble)."""
+    """The error budget's number: the share k/n of seeds whose helix forms with a defect, with the
+    Wilson 95 % score interval of a binomial share (never of zero width, unlike sqrt(p(1-p)/n) at
+    k = 0 or n): its larger distance from k/n, over Z95, stands as the standard error."""
     n, k = int(ds.attrs["seeds"]), int(ds.attrs["seeds_with_defects"])
-    pl = (k + 1.0) / (n + 2.0)
+    if not n:
+        return []
+    lo, hi = wilson_interval(k, n)
+    half = max(k / n - lo, hi - k / n)
     return [Headline(f"{figure}.defect_fraction", figure, "share of seeds ending with a defect", k / n,
-                     float(np.sqrt(pl * (1.0 - pl) / n)), n, "defect_fraction", float(ds.attrs.get("L", 0.0)),
+                     half / Z95, n, "defect_fraction", float(ds.attrs.get("L", 0.0)),
                      float(ds.attrs.get("load", 0.0)), float(ds.attrs.get("k_fr", 0.0)),
-                     note="binomial over seeds")] if n else []
+                     note=f"binomial over seeds, Wilson 95 % interval [{lo:.3g}, {hi:.3g}]", dof=math.inf)]
+
+
+def wilson_interval(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """The Wilson score interval of a binomial share k/n at the normal quantile z:
+    (k + z^2/2 -+ z sqrt(k (n - k)/n + z^2/4)) / (n + z^2)."""
+    if not 0 <= k <= n or n < 1:
+        raise ValueError(f"wilson_interval: need 0 <= k <= n and n >= 1, got k = {k}, n = {n}")
+    centre, half = k + z * z / 2.0, z * math.sqrt(k * (n - k) / n + z * z / 4.0)
+    return max(0.0, (centre - half) / (n + z * z)), min(1.0, (centre + half) / (n + z * z))
 
 
 def plot(ds: xr.Dataset):
