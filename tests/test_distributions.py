@@ -118,3 +118,22 @@ def test_a_few_seeds_get_students_factor_not_the_normal_one():
     assert D.t_quantiles(big.dof)[0] == pytest.approx(D.Z_ALPHA, rel=0.03)
     with pytest.raises(ValueError, match="degrees of freedom"):
         D.t_quantiles(0)
+
+
+def test_the_clipped_ends_of_the_ad_p_value_are_written_as_bounds():
+    assert D.ad_text(0.25) == "AD p >= 0.25" and D.ad_text(0.001) == "AD p <= 0.001"
+    assert D.ad_text(0.0134) == "AD p = 0.0134" and D.ad_text(1.0) == "AD p = 1"
+
+
+def test_a_seed_that_jumps_to_another_equilibrium_is_counted_not_averaged_away():
+    """Nine seeds shift by 1 % +- 0.1 %, one jumps by +25 %: one jump, its difference named; with
+    no outlier none. The jump is what makes the standard error large."""
+    rng = np.random.default_rng(5)
+    b = rng.normal(1.0, 0.1, 10)
+    a = b * (1.01 + rng.normal(0, 0.001, 10))
+    assert D.seed_jumps((a - b) / b.mean()) == (0, 0.0)
+    a[3] = b[3] + 0.25 * b.mean()
+    c = D.compare(a, b, tolerance=0.03, paired=True)
+    assert c.jumps == 1 and c.largest_jump == pytest.approx(0.25, rel=1e-12)
+    assert "(1 of them jumps to another state, largest +25 %)" in c.text()
+    assert D.compare(a, b, tolerance=0.03).jumps == 0           # unpaired: no seed to follow

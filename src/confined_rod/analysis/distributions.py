@@ -64,6 +64,8 @@ def t_quantiles(dof: float) -> tuple[float, float]:
 
     return float(t.ppf(1.0 - ALPHA / 2.0, dof)), float(t.ppf(POWER, dof))
 WITHIN, BEYOND, UNDECIDED = "within", "beyond", "undecided"
+#: the range scipy.stats.anderson_ksamp clips its p-value to
+AD_P_MIN, AD_P_MAX = 0.001, 0.25
 
 
 @dataclass(frozen=True)
@@ -81,6 +83,8 @@ class Comparison:
     seeds_needed: float  # per ensemble to decide (0 when decided; inf when |shift| = tolerance)
     paired: bool = False  # se from the differences seed by seed (module docstring)
     dof: float = math.inf  # degrees of freedom of se: n - 1 paired, Welch-Satterthwaite unpaired
+    jumps: int = 0        # paired seeds whose difference is an outlier (jumps): another equilibrium
+    largest_jump: float = 0.0  # the largest such difference, relative to the finer rung's mean
 
     @property
     def bound(self) -> float:
@@ -93,9 +97,21 @@ class Comparison:
                 "; no finite number of seeds decides (the shift equals the tolerance)" if math.isinf(self.seeds_needed)
                 else f"; about {math.ceil(self.seeds_needed)} seeds per rung would decide")
         n = f"{self.n_a} paired seeds" if self.paired else f"n = {self.n_a}/{self.n_b}"
+        if self.jumps:
+            n += (f" ({self.jumps} of them {'jumps' if self.jumps == 1 else 'jump'} to another state, largest "
+                  f"{scale * self.largest_jump:+.2g} {unit})")
         return (f"shift {scale * self.shift:+.2g} +- {scale * self.se:.2g} {unit} (95 % bound {scale * self.bound:.2g} "
-                f"{unit}), resolution {scale * self.resolution:.2g} {unit}, AD p = {self.p_ad:.3g}, {n}: "
+                f"{unit}), resolution {scale * self.resolution:.2g} {unit}, {ad_text(self.p_ad)}, {n}: "
                 f"{self.verdict} {scale * self.tolerance:g} {unit}{need}")
+
+
+def ad_text(p: float) -> str:
+    """'AD p = 0.013', or 'AD p >= 0.25' / 'AD p <= 0.001' at the ends scipy clips the p-value to."""
+    if p >= AD_P_MAX and p < 1.0:
+        return f"AD p >= {AD_P_MAX:g}"
+    if p <= AD_P_MIN:
+        return f"AD p <= {AD_P_MIN:g}"
+    return f"AD p = {p:.3g}"
 
 
 def anderson_p(a: np.ndarray, b: np.ndarray) -> float:
@@ -124,9 +140,11 @@ def compare(a, b, tolerance: float, paired: bool = False) -> Comparison:
     if mb == 0.0:
         raise ValueError("compare: the finer ensemble's mean is 0; a relative shift is not defined")
     ratio = ma / mb
+    jumps, largest = 0, 0.0
     if paired:
         se = float(np.std(a - ratio * b, ddof=1)) / math.sqrt(a.size) / abs(mb)
         dof = float(a.size - 1)
+        jumps, largest = seed_jumps((a - b) / abs(mb))
     else:
         va, vb = a.var(ddof=1) / a.size, ratio**2 * b.var(ddof=1) / b.size
         se = math.sqrt(va + vb) / abs(mb)
@@ -151,4 +169,23 @@ def compare(a, b, tolerance: float, paired: bool = False) -> Comparison:
         else:
             need = math.inf
     return Comparison(int(a.size), int(b.size), ma, mb, shift, se, resolution, anderson_p(a, b), verdict,
-                      float(tolerance), need, bool(paired), float(dof))
+                      float(tolerance), need, bool(paired), float(dof), jumps, largest)
+
+
+#: a paired difference this many robust standard deviations (1.4826 MAD) from the median is a jump
+JUMP_SIGMAS = 5.0
+
+
+def seed_jumps(d: np.ndarray) -> tuple[int, float]:
+    """(count, largest) of the paired differences d that are outliers: further than JUMP_SIGMAS
+    robust standard deviations from their median, the seeds that moved to another equilibrium
+    rather than shifted with the rest. Where most differences are equal (MAD 0), every other one
+    is a jump. The largest is the outlier furthest from the median, with its sign."""
+    d = np.asarray(d, dtype=float)
+    dev = d - np.median(d)
+    mad = 1.4826 * float(np.median(np.abs(dev)))
+    out = np.abs(dev) > JUMP_SIGMAS * mad if mad > 0 else np.abs(dev) > 1e-12 * max(1.0, float(np.abs(d).max()))
+    if not out.any():
+        return 0, 0.0
+    i = int(np.argmax(np.where(out, np.abs(dev), -1.0)))
+    return int(out.sum()), float(d[i])

@@ -401,7 +401,8 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
                 continue
             if k in DESCRIPTOR_KEYS:
                 p = distributions.anderson_p(a, b)
-                notes.append(f"{where}: AD p = {p:.3g} (mean {a.mean():.3g} against {b.mean():.3g}; not deciding)")
+                notes.append(f"{where}: {distributions.ad_text(p)} (mean {a.mean():.3g} against {b.mean():.3g}; "
+                             "not deciding)")
                 continue
             if np.mean(b) == 0.0:
                 continue
