@@ -190,6 +190,10 @@ def test_numbers_get_a_minus_sign_and_a_plain_text_twin():
     assert paper.tex_value("F_z(L)")[0] == r"F\_z(L)"
     # what pdftotext gives back for them
     assert paper.normalize("\u22120.5 and 2.40 \u00d7 10\u22127") == paper.normalize("-0.5 and 2.40x10-7")
+    # a plus-minus or minus sign at a line's end is no hyphenation; a hyphen there is
+    assert paper.normalize("-2.1 \u00b1\n0.44 %") == "-2.1+-0.44%"
+    assert paper.normalize("shift \u2212\n1.6") == "shift-1.6"
+    assert paper.normalize("torque-\nfree") == "torquefree"
 
 
 def test_generated_macros_fail_loudly_when_undefined():

@@ -69,11 +69,12 @@ def tex_value(text: str) -> tuple[str, str]:
 def normalize(text: str) -> str:
     """What the PDF check compares: pdftotext's output without spaces, with the minus sign
     and the times sign as ASCII, hyphenation at line ends undone, and without underscores
-    (pdflatex draws \\_ as a rule, which pdftotext does not return)."""
+    (pdflatex draws \\_ as a rule, which pdftotext does not return). Hyphenation is undone first,
+    on the ASCII hyphen only: a minus or plus-minus sign that ends a line is no hyphen."""
+    text = re.sub(r"-\n", "", text)
     for char, ascii_ in (("\u2212", "-"), ("\u00b1", "+-"), ("\u00d7", "x"), ("\u02c6", "^"), ("\ufb01", "fi"),
                          ("\ufb02", "fl")):
         text = text.replace(char, ascii_)
-    text = re.sub(r"-\n", "", text)
     return re.sub(r"\s+", "", text).replace("_", "")
 
 
