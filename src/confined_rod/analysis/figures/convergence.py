@@ -532,6 +532,8 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                                                "F_shift_split_seeds")
         data["F_shift_split_total"] = variable(("rung",), shift[:, -1], "F_shift_split_total")
         data["F_shift_split_total_se"] = variable(("rung",), se[:, -1], "F_shift_by_region_se")
+        data["F_shift_split_total_se"].attrs["long_name"] = ("standard error of F_shift_split_total over the "
+                                                             "paired seeds")
         shift, se = shift[:, :-1], se[:, :-1]
         data["F_shift_by_region"] = variable(("rung", "region"), shift, "F_shift_by_region")
         data["F_shift_by_region_se"] = variable(("rung", "region"), se, "F_shift_by_region_se")
@@ -618,6 +620,7 @@ _X_LABEL = {"l0": r"$l_0$ [$R$] (axis: $h = l_0$)", "k_ph": r"$k_{ph}$ [$EI/R^2$
             "k_w": r"$k_w$ [$EI/R^3$] (axis: $h = 1/k_w$)", "k_t": r"$k_t$ [$EI/R^3$] (axis: $h = 1/k_t$)",
             "tol": r"tol (axis: $h$ = tol)", "ramp_steps": r"$n_{ramp}$ (axis: $h = 1/n_{ramp}$)",
             "dx_max": r"$dx_{max}$ [$R$] (axis: $h = dx_{max}$)"}
+
 
 def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> None:
     """A paired ladder (every rung starts a seed from the same rod): each seed's values joined
