@@ -259,6 +259,27 @@ def test_numerical_study_figures_are_validated():
                                             ("conv_l0", "conv_k_ph", "conv_l0_friction", "conv_ramp_steps"))
 
 
+def test_a_ladder_serves_only_the_rod_of_its_publication_rung():
+    """``serves`` names figure scenes whose ensemble means a ladder vouches for: resolved to their
+    seed counts and the quantities their kinds report, and refused (naming the entry and why) when
+    the scene is missing, reports nothing a ladder compares, or is another rod."""
+    config = load(ROOT / "config/config.yaml")
+    served = pipeline.context(config, "conv_ramp_steps_a")["served"]
+    seeds = config["figures"]["fig4_Fonl_ramp"]["defaults"]["seeds"]
+    assert served == [{"name": "fig4_Fonl_ramp.a", "seeds": seeds, "reports": ["F_transmitted", "decay_ratio"]}]
+    assert pipeline.context(config, "conv_l0")["served"] == []
+    for entry, why in (("fig4_Fonl_ramp.b", r"not the rod of this ladder's publication rung \(k_fr 0\.3 against "
+                                            r"0\.1\)"),
+                       ("nope.a", r"is not '<figure>\.<scene>' of another figure"),
+                       ("fig4_Fonl_ramp.z", r"figure 'fig4_Fonl_ramp' has no scene 'z' \(scenes: a, b, c\)"),
+                       ("fig2_transition.seed0", r"kind 'transition'\) reports no ensemble mean")):
+        bad = copy.deepcopy(config)
+        bad["figures"]["conv_ramp_steps_a"]["serves"] = [entry]
+        head = r"figures\.conv_ramp_steps_a\.serves: '" + entry.replace(".", r"\.") + "'.*"
+        with pytest.raises(pipeline.ConfigError, match=head + why):
+            pipeline.validate(bad)
+
+
 @pytest.mark.parametrize("order", ["ensemble first", "entry first"])
 def test_a_seed_ensemble_and_an_entry_of_the_same_expanded_name_are_refused(order):
     """`L20: {seeds: 2}` beside `L20-s1` used to drop one of them silently (a caption then spoke

@@ -131,3 +131,26 @@ def test_force_parts_split_the_inverse_force_by_region_from_the_loaded_end():
     assert parts["lower"] == pytest.approx(rate * max(0.0, on_end - se), abs=1e-9)
     assert parts["bulk"] > 10 * (parts["tip"] + parts["lower"])
     assert regions.force_parts(prescribed_helix(tip=97.0)) is None
+
+
+def test_friction_use_is_the_force_weighted_share_of_the_coulomb_limit():
+    """The constructed rod slides axially at the Coulomb limit in its tip and bulk (use 1) and
+    carries q_lower of the limit in its lower region; link ends that touch the wall lightly with
+    no axial friction (a contact resolved by more link ends) barely move the force-weighted share
+    while the per-link mean q halves."""
+    ds, _ = constructed(tip_end=6.0, bulk_end=70.0, q_lower=0.3)
+    a = regions.analyse(ds)
+    # the detected bulk ends within half a window of the built one, so it may hold a few lower links
+    # (q 0.3 at a small normal force): 1 to within 2 %
+    assert regions.friction_use(ds, "bulk", a) == pytest.approx(1.0, abs=0.02)
+    assert regions.friction_use(ds, "lower", a) == pytest.approx(0.3, rel=1e-9)
+    lower = np.flatnonzero(a.regions.of_links(ds["s_link"].values) == 2)
+    light = ds.copy(deep=True)
+    light["wall_force"].values[lower[1::2]] *= 1e-3        # every other link end barely touches ...
+    light["friction_z"].values[lower[1::2]] = 0.0          # ... and carries no axial friction
+    assert regions.friction_use(light, "lower", a) == pytest.approx(0.3, rel=2e-3)
+    q = regions.axial_utilisation(light["contact"].values, light["wall_force"].values, light["friction_z"].values,
+                                  K_FR, 0.0)
+    assert q[lower].mean() == pytest.approx(0.15, rel=0.05)
+    ds["friction_z"] = ds["friction_z"] * 0.2              # no bulk: nothing to split
+    assert regions.friction_use(ds, "lower") is None

@@ -84,7 +84,8 @@ FIGURE_QUANTITIES = [
     Quantity("p_ad", "p_{AD}", "p-value of the Anderson-Darling k-sample test of the two ensembles (scipy's range "
              "0.001-0.25)", "1"),
     Quantity("verdict_code", "", "comparison with the publication rung: 0 not compared (no values or the rung "
-             "itself), 1 within the tolerance, 2 beyond it, 3 undecided", "1"),
+             "itself), 1 within the tolerance, 2 beyond it, 3 undecided, 4 described but not deciding (no figure the "
+             "ladder serves reports it)", "1"),
     Quantity("seeds_needed", "n", "seeds per rung that would decide an undecided comparison (0: decided; -1: none "
              "would, the shift equals the tolerance)", "1"),
     Quantity("compared_tolerance", "", "relative tolerance the comparison is decided against", "1"),
@@ -212,6 +213,8 @@ FIGURE_QUANTITIES = [
     Quantity("lower_q_mean", r"\langle q\rangle_{lower}", "mean axial friction utilisation over the lower region's "
              "links on the wall", "1"),
     Quantity("lower_force_drop", r"F(s_l)/F(L)", "|F_z| at the start of the lower region over |F_z(L)|", "1"),
+    Quantity("lower_friction_use", r"\frac{\sum f_z}{\sum f_{max}}\Big|_{lower}", "share of the Coulomb limit the "
+             "lower region's wall contacts carry axially, weighted by force", "1"),
     Quantity("bulk_decay_rate", r"d(1/|F_z|)/ds", "local decay rate d(1/|F_z|)/ds fitted over the bulk helix",
              "R EI-1"),
     Quantity("bulk_decay_rate_err", r"\delta", "uncertainty of the bulk decay rate: max(standard error, half the "

@@ -218,6 +218,27 @@ def force_parts(sim: xr.Dataset, a: Analysis | None = None) -> dict[str, float] 
     return dict(zip(REGIONS, np.diff(inv).tolist()))
 
 
+def friction_use(sim: xr.Dataset, region: str = "lower", a: Analysis | None = None) -> float | None:
+    """The share of the Coulomb limit a region's friction carries axially, weighted by force:
+    sum f_z / sum f_max over the region's links on the wall (f_z positive where it lowers |F_z|
+    along s; f_max = min(k_fr N, friction_cap)). 1 where every contact slides axially at the
+    limit (the bulk), below 1 where contacts stick or slip azimuthally (the lower region: a few
+    concentrated contacts whose stuck friction the path set). Unlike the per-link mean q, it does
+    not change when one contact is resolved by more link ends. None without a bulk or without
+    wall contact in the region."""
+    a = a or analyse(sim)
+    if not a.regions.has_bulk:
+        return None
+    at = a.regions.of_links(np.asarray(sim["s_link"].values, dtype=float)) == REGIONS.index(region)
+    at &= np.asarray(sim["contact"].values) > 0
+    f_max = friction_limit(sim["wall_force"].values, float(sim.attrs["k_fr"]),
+                           float(sim.attrs.get("friction_cap", 0.0)))
+    total = float(f_max[at].sum())
+    if total <= 0.0:
+        return None
+    return float(np.asarray(sim["friction_z"].values, dtype=float)[at].sum()) / total
+
+
 def summary(sim: xr.Dataset, a: Analysis | None = None) -> dict[str, float]:
     """The scalars a figure dataset stores per run (quantities.py names; 0 with has_bulk = 0
     where there is no bulk): region boundaries and lengths, the lower region's mean axial

@@ -575,7 +575,7 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
     macros.add("val", "l0_ladder.pitch_theory", "not measured")
     for region in (*REGIONS, "total", "seeds"):
         macros.add("val", f"l0_ladder.region.{region}", "not measured")
-    for key in ("F_shifts", "decay_shifts"):
+    for key in ("F_shifts", "decay_shifts", "lower_friction_use"):
         macros.add("val", f"l0_ladder.{key}", "not measured")
     for name, ds in sorted(datasets.items()):
         for attr in SCENE_ATTRS:                # the parameters its scenes share, e.g. \val{fig7_tiny_force.load}
@@ -606,6 +606,8 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
         tol = tex_value(fmt(100 * float(a["tolerance"])))[0]
         if "distribution_tolerance" in a:       # an ensemble ladder: the relation's / the final states'
             tol += "/" + tex_value(fmt(100 * float(a["distribution_tolerance"])))[0]
+            if str(a.get("serves", "none")) != "none":      # or half the served figures' error (caption)
+                tol += r"$^\ast$"
         cells.append(tol)
         cells.append(rf"\val{{{name}.distance_percent}}; \val{{{name}.verdict}}")
         rows.append(" & ".join(cells) + r" \\")
@@ -619,7 +621,10 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
                  r"of the helix, tolerance before the slash, and the final states with the ratios to the "
                  r"torque-free helix, after it), which is not a distance from a limit. A shift is given $\pm$ its "
                  r"standard error and decided by its 95\,\% bound with Student's factor for the paired seeds; the "
-                 r"Anderson--Darling $p$ of the checks is scipy's, capped at 0.25. A verdict cut short is given in "
+                 r"Anderson--Darling $p$ of the checks is scipy's, capped at 0.25. $^\ast$: the ladder vouches "
+                 r"for figures of a few seeds (its \texttt{serves}) and decides on the quantities they report, "
+                 r"each held to the larger of this tolerance and half the 95\,\% error of the figure's mean "
+                 r"(Sec.~``Convergence checks'' of the documentation). A verdict cut short is given in "
                  r"full in "
                  rf"\texttt{{{layout.CHECKS}}}.}}\label{{tab:convergence}}" "\n" r"\small" "\n"
                  r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
@@ -737,6 +742,12 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
                      for j in range(pub + 1, ds.sizes["rung"]) if int(ds["cmp_verdict_code"].values[j, q])]
             if parts:
                 macros.add_text("val", f"l0_ladder.{key}", " and ".join(parts))
+        if "lower_friction_use" in ds:
+            # the lower region's friction use per rung, coarse to fine (where the ladder's F(L) moves)
+            use = ", ".join(f"{float(m):.3f} +- {float(e):.3f}" for m, e in
+                            zip(ds["lower_friction_use"].values, ds["lower_friction_use_sem"].values))
+            values = ", ".join(f"{float(v):g}" for v in ds["value"].values)
+            macros.add_text("val", "l0_ladder.lower_friction_use", f"{use} at link lengths {values}")
     if "F_shift_split_total" in ds and int(ds["F_shift_by_region_has"].values[pub]):
         total = (f"{100 * float(ds['F_shift_split_total'].values[pub]):+.2g} +- "
                  f"{100 * float(ds['F_shift_split_total_se'].values[pub]):.2g} %")

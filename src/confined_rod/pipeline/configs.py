@@ -22,10 +22,12 @@ physics validation) and checks the figure-kind rules, all before any job runs.
 from __future__ import annotations
 
 import copy
+import math
 from pathlib import Path
 from typing import Any
 
 from .. import layout
+from ..analysis import ensembles
 from ..analysis import figures as kinds
 from ..analysis.figure_quantities import NUMERICS
 from ..errors import ConfigError, SceneError, shorten
@@ -183,7 +185,6 @@ def _expand_ensembles(config: dict[str, Any]) -> None:
     scene_defaults) into one scene per seed, ``<scene>-s<seed>``, in place (expand calls it on
     its copy); idempotent.
     Only figure kinds with ``ENSEMBLES = True`` accept them (ConfigError otherwise)."""
-    from ..analysis import ensembles
 
     top = config.get("scene_defaults") or {}
     for f in figures(config):
@@ -391,6 +392,8 @@ def validate(config: dict[str, Any]) -> None:
         if not scenes(config, f):
             raise ConfigError(f"figures.{f}.scenes: a figure needs at least one scene")
         module.validate(f, fig, built_scenes(config, f), **_extra(module, config, f))
+        if fig.get("serves"):
+            served(config, f)
 
 
 def _extra(module, config, figure) -> dict[str, Any]:
@@ -406,7 +409,57 @@ def context(config: dict[str, Any], figure: str) -> dict[str, Any]:
     """What a figure's dataset builder needs from the config beyond its own entry (the
     datasets of the figures it reads are added by the postprocess rule: ``datasets``)."""
     fig = config["figures"][figure]
-    return {"publication_value": publication_value(config, figure)} if "parameter" in fig else {}
+    if "parameter" not in fig:
+        return {}
+    return {"publication_value": publication_value(config, figure), "served": served(config, figure)}
+
+
+#: Scene fields that say how a run is stored or named, not which rod it is: a ladder serves a
+#: figure's scene when every other field agrees
+_NOT_PHYSICS = ("name", "seed", "snapshot_interval", "snapshot_growth")
+
+
+def served(config: dict[str, Any], figure: str) -> list[dict[str, Any]]:
+    """The figure scenes whose ensemble means a convergence ladder vouches for (its ``serves``:
+    '<figure>.<scene>'), each as {"name", "seeds", "reports"}: the scene's ensemble size and the
+    quantities its kind reports (the kind's REPORTS). ConfigError if a named figure or scene is
+    missing, its kind reports nothing a ladder compares, or its rod is not the ladder's
+    publication rung (every Scene field but the seed and the stored snapshots)."""
+    config = expand(config)
+    fig = config["figures"][figure]
+    entries = fig.get("serves") or []
+    if not entries:
+        return []
+    param, pub = fig.get("parameter"), publication_value(config, figure)
+    rung = [sc for sc in built_scenes(config, figure).values()
+            if pub is not None and math.isclose(float(getattr(sc, param)), pub, rel_tol=1e-9)]
+    out = []
+    for entry in entries:
+        where = f"figures.{figure}.serves: {entry!r}"
+        other, _, scene = str(entry).partition(".")
+        if other not in config["figures"] or other == figure or not scene:
+            raise ConfigError(f"{where} is not '<figure>.<scene>' of another figure of this config "
+                              f"(figures: {', '.join(figures(config))})")
+        reports = tuple(getattr(kinds.get(config["figures"][other]["kind"]), "REPORTS", ()))
+        if not reports:
+            raise ConfigError(f"{where}: figure {other!r} (kind {config['figures'][other]['kind']!r}) reports no "
+                              "ensemble mean a ladder compares (kinds that do: "
+                              + ", ".join(k for k in kinds.kinds() if getattr(kinds.get(k), "REPORTS", ())) + ")")
+        members = {n: sc for n, sc in built_scenes(config, other).items()
+                   if n == scene or ensembles.base_name(n, sc.seed) == scene}
+        if not members:
+            raise ConfigError(f"{where}: figure {other!r} has no scene {scene!r} (scenes: "
+                              + ", ".join(sorted({ensembles.base_name(n, sc.seed) for n, sc in
+                                                  built_scenes(config, other).items()})) + ")")
+        if rung:
+            mine = {k: v for k, v in rung[0].to_dict().items() if k not in _NOT_PHYSICS}
+            theirs = {k: v for k, v in next(iter(members.values())).to_dict().items() if k not in _NOT_PHYSICS}
+            differ = [f"{k} {theirs[k]!r} against {mine[k]!r}" for k in mine if mine[k] != theirs[k]]
+            if differ:
+                raise ConfigError(f"{where}: that scene is not the rod of this ladder's publication rung ("
+                                  + "; ".join(differ[:4]) + ")")
+        out.append({"name": f"{other}.{scene}", "seeds": len(members), "reports": list(reports)})
+    return out
 
 
 def read_figures(config: dict[str, Any], figure: str) -> dict[str, str]:

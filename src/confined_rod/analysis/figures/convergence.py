@@ -38,6 +38,15 @@ no per-seed question of the final state has an answer. Two questions do:
    (analysis.distributions); the windings, reversals and the lower region's length are compared
    by their p-values in the notes.
 
+What a ladder vouches for (``serves``). A ladder that names the figure scenes it stands behind
+(the same rod as its publication rung) holds each final-state quantity those figures report to
+the larger of ``distribution_tolerance`` and half the 95 % error of the figure's ensemble mean
+(distributions.budget_tolerance, with the spread of the ladder's publication rung): the
+numerical bias then stays well below the statistical error of what the figure reports, which is
+all the figure needs, and the ladder's size follows from the figure's. Quantities no served
+figure reports are compared and described but do not decide. Without ``serves`` every
+final-state quantity decides against ``distribution_tolerance``.
+
 pass when every comparison is within (its 95 % bound and its resolution inside the tolerance),
 fail when one is beyond (outside the tolerance beyond its 95 % bound), inconclusive otherwise,
 with the seeds per rung that would decide. Every rung starts a seed from the same continuous rod
@@ -84,6 +93,12 @@ OPTIONS = {
                                "relative shift of the mean final state (F_transmitted, L_z, the ratios to the "
                                "torque-free helix) from a finer rung; "
                                "default: tolerance, which then bounds the local relations only"},
+    "serves": {"type": "array", "items": {"type": "string", "pattern": "^[^.]+[.][^.]+$"},
+               "description": "ensemble ladders: the figure scenes ('<figure>.<scene>') whose ensemble means this "
+               "ladder vouches for, each the rod of the publication rung; the final states are then decided on "
+               "the quantities those figures report, each held to the larger of distribution_tolerance and "
+               "half the 95 % error of the figure's mean (analysis.distributions.budget_tolerance); the other "
+               "quantities are described, not deciding"},
     "publication_value": {"type": "number", "description": "the value the figures use when it is not a scene default "
                           "(e.g. the ramp_steps of the ramped figures); default: scene_defaults or the Scene default"},
 }
@@ -212,7 +227,7 @@ def _ladder(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=
     param = fig_cfg["parameter"]
     groups = ensembles.group(list(sims), {n: sims[n].attrs for n in sims}, (param,))
     if any(len(g) > 1 for g in groups):
-        return _build_ensemble(fig_cfg, sims, groups, float((context or {})["publication_value"]))
+        return _build_ensemble(fig_cfg, sims, groups, float((context or {})["publication_value"]), context)
     publication_value = float((context or {})["publication_value"])
     hname, hfun = REFINEMENT[param]
     items = sorted(sims.items(), key=lambda kv: -hfun(float(kv[1].attrs[param])))
@@ -353,8 +368,10 @@ RELATION_KEYS = local_relations.UNIVERSAL
 STATE_KEYS = ("F_transmitted", "L_z", *(k for k in local_relations.RELATIONS if k not in RELATION_KEYS))
 #: descriptors of the final state whose distributions are compared (AD p-values in the note) but
 #: do not decide: a winding or a reversal is what multistability changes
-DESCRIPTOR_KEYS = ("total_turns", "n_reversals", "lower_length")
+DESCRIPTOR_KEYS = ("total_turns", "n_reversals", "lower_length", "lower_friction_use")
 VERDICT_CODE = {distributions.WITHIN: 1, distributions.BEYOND: 2, distributions.UNDECIDED: 3}
+#: a comparison described but not deciding: no figure the ladder serves reports the quantity
+NOT_DECIDING = 4
 
 
 def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
@@ -364,13 +381,46 @@ def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
                                     "total_turns": sh.total_turns, "n_reversals": float(sh.reversals.size)}
     rel = local_relations.measure(sim)
     out.update(rel)
-    out["lower_length"] = (float(regions.summary(sim)["lower_length"]) if float(sim.attrs["k_fr"]) > 0 else None)
+    frictional = float(sim.attrs["k_fr"]) > 0
+    an = regions.analyse(sim) if frictional else None
+    out["lower_length"] = float(regions.summary(sim, an)["lower_length"]) if frictional else None
+    # the share of the Coulomb limit the lower region's contacts carry axially (where the frictional
+    # l0 ladder's shift of F(L) sits: docs/model.md, "What l0 changes")
+    out["lower_friction_use"] = regions.friction_use(sim, "lower", an) if frictional else None
+    return out
+
+
+def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, ipub: int, dist_tol: float,
+                     served: list[Mapping[str, Any]] | None) -> dict[str, tuple[float, str] | None]:
+    """Per final-state quantity (STATE_KEYS): (tolerance, where it comes from), or None where it
+    does not decide (module docstring, ``serves``). Without served figures every quantity is held
+    to ``dist_tol``; with them, a quantity reported by the served figures to the larger of
+    ``dist_tol`` and budget_tolerance over the largest served ensemble that reports it, computed
+    from the publication rung's members."""
+    out: dict[str, tuple[float, str] | None] = {}
+    for k in STATE_KEYS:
+        if not served:
+            out[k] = (dist_tol, "")
+            continue
+        by = [s for s in served if k in s["reports"]]
+        if not by:
+            out[k] = None
+            continue
+        figure = max(by, key=lambda s: s["seeds"])
+        v = members[k][ipub] if k in members else np.array([])
+        x = v[(has[ipub] == 1) & np.isfinite(v)] if v.size else v
+        budget = (distributions.budget_tolerance(x, int(figure["seeds"]))
+                  if x.size >= 2 and x.mean() != 0.0 and figure["seeds"] >= 2 else 0.0)
+        if budget > dist_tol:
+            out[k] = (budget, f" (half the 95 % error of the {figure['seeds']}-seed mean of {figure['name']})")
+        else:
+            out[k] = (dist_tol, "")
     return out
 
 
 def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: np.ndarray, ipub: int,
-                   tol: float, dist_tol: float,
-                   seeds: np.ndarray | None = None) -> tuple[str, list[str], dict[str, list]]:
+                   tol: float, dist_tol: float, seeds: np.ndarray | None = None,
+                   served: list[Mapping[str, Any]] | None = None) -> tuple[str, list[str], dict[str, list]]:
     """(status, notes, table) of a ladder of ensembles ordered coarse to fine. ``members[k]`` is
     (rung, member) with NaN where member k has no value (no regular helix, say). ``seeds`` (rung,
     member): every rung starts a seed from the same rod (sim/perturbation.py), so the shifts are
@@ -379,13 +429,16 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
 
     Every rung finer than the publication one is compared with it (distributions.compare): the
     local relation (RELATION_KEYS) against ``tol``, the state (STATE_KEYS) against ``dist_tol``; the
-    descriptors only by their AD p-value. fail if a comparison is beyond its tolerance; else
+    descriptors only by their AD p-value; with ``served`` figures (module docstring) each state
+    quantity against its state_tolerances, and the quantities none of them reports are compared
+    but do not decide (table flag ``deciding``). fail if a comparison is beyond its tolerance; else
     inconclusive if one is undecided (its note names the seeds per rung that would decide); else
     pass. A relation with fewer than two values on either rung is not compared (said in the notes);
     a ladder with no local relation on its publication rung is inconclusive."""
     finer = list(range(ipub + 1, len(values)))
-    table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp")}
+    table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp", "deciding")}
     notes, decisive = [], []
+    state_tol = state_tolerances(members, has, ipub, dist_tol, served)
     if not finer:
         return "inconclusive: no rung finer than the publication value", ["no finer rung"], table
     compared_relation = False
@@ -406,14 +459,18 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
                 continue
             if np.mean(b) == 0.0:
                 continue
-            c = distributions.compare(a, b, tol if k in RELATION_KEYS else dist_tol, paired=seeds is not None)
+            limit, origin = (tol, "") if k in RELATION_KEYS else (state_tol[k] or (dist_tol, ""))
+            deciding = k in RELATION_KEYS or state_tol[k] is not None
+            c = distributions.compare(a, b, limit, paired=seeds is not None)
             compared_relation |= k in RELATION_KEYS
             table["rung"].append(j)
             table["quantity"].append(k)
             table["cmp"].append(c)
-            line = f"{where}: {c.text()}"
+            table["deciding"].append(deciding)
+            line = (f"{where}: {c.text(tolerance_note=origin)}" if deciding else
+                     f"{where} (described, not deciding: no served figure reports it): {c.text()}")
             notes.append(line)
-            if c.verdict != distributions.WITHIN:
+            if deciding and c.verdict != distributions.WITHIN:
                 decisive.append((c, line))
     if not compared_relation:
         return ("inconclusive: no local relation could be compared (no regular helix on the publication rung and a "
@@ -428,13 +485,15 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
                 else f"about {math.ceil(need)} seeds per rung would decide")
         return f"inconclusive ({head}): " + "; ".join(line for _, line in undecided), notes, table
     largest = {}
-    for k, c in zip(table["quantity"], table["cmp"]):
-        if abs(c.shift) >= abs(largest.get(k, c).shift):
+    for k, c, deciding in zip(table["quantity"], table["cmp"], table["deciding"]):
+        if deciding and abs(c.shift) >= abs(largest.get(k, c).shift):
             largest[k] = c
-    summary = ", ".join(f"{k} {100 * c.shift:+.2g} % (resolution {100 * c.resolution:.2g} %)"
-                        for k, c in largest.items())
-    return (f"pass: local relation within {100 * tol:g} %, final states within {100 * dist_tol:g} % (largest "
-            f"shifts: {summary})"), notes, table
+    summary = ", ".join(f"{k} {100 * c.shift:+.2g} % (resolution {100 * c.resolution:.2g} %"
+                        + (f", tolerance {100 * c.tolerance:.2g} %" if k in STATE_KEYS and c.tolerance != dist_tol
+                           else "") + ")" for k, c in largest.items())
+    states = (f"final states within {100 * dist_tol:g} %" if not served else
+              "final states that " + ", ".join(s["name"] for s in served) + " report within their tolerances")
+    return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary})", notes, table
 
 
 def _aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
@@ -449,7 +508,7 @@ def _aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j
     return np.array([at_i[s] for s in common]), np.array([at_j[s] for s in common])
 
 
-def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
+def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> xr.Dataset:
     """The ladder with a seed ensemble per rung: members, means, standard errors, the local
     relations and the comparisons with the publication rung (ladder_verdict)."""
     param = fig_cfg["parameter"]
@@ -469,9 +528,12 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     members = {k: pad.values(lambda d, k=k: _or_nan(per_run[id(d)][k]), fill=math.nan) for k in keys}
     members = {k: v for k, v in members.items() if np.isfinite(v[has == 1]).any()}
     seeds = pad.values(lambda d: float(d.attrs["seed"]))
-    status, notes, table = ladder_verdict(values, members, has, ipub, tol, dist_tol, seeds=seeds.astype(np.int64))
+    served = list((context or {}).get("served") or [])
+    status, notes, table = ladder_verdict(values, members, has, ipub, tol, dist_tol, seeds=seeds.astype(np.int64),
+                                          served=served)
     data = {}
-    shown = [k for k in (*STATE_KEYS, *RELATION_KEYS) if k in members]
+    # and, stored but not deciding, the lower region's friction use (where the l0 ladder's F(L) moves)
+    shown = [k for k in (*STATE_KEYS, *RELATION_KEYS, "lower_friction_use") if k in members]
     for k in shown:
         v = members[k]
         ok = (has == 1) & np.isfinite(v)
@@ -493,11 +555,11 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     cmp_vars = {"shift": np.zeros(shape), "shift_se": np.zeros(shape), "resolution": np.zeros(shape),
                 "p_ad": np.ones(shape), "verdict_code": np.zeros(shape, dtype=np.int8),
                 "seeds_needed": np.zeros(shape), "compared_tolerance": np.zeros(shape), "dof": np.zeros(shape)}
-    for j, k, c in zip(table["rung"], table["quantity"], table["cmp"]):
+    for j, k, c, deciding in zip(table["rung"], table["quantity"], table["cmp"], table["deciding"]):
         q = quantities.index(k)
         cmp_vars["shift"][j, q], cmp_vars["shift_se"][j, q] = c.shift, c.se
         cmp_vars["resolution"][j, q], cmp_vars["p_ad"][j, q] = c.resolution, c.p_ad
-        cmp_vars["verdict_code"][j, q] = VERDICT_CODE[c.verdict]
+        cmp_vars["verdict_code"][j, q] = VERDICT_CODE[c.verdict] if deciding else NOT_DECIDING
         cmp_vars["seeds_needed"][j, q] = -1.0 if math.isinf(c.seeds_needed) else c.seeds_needed
         cmp_vars["compared_tolerance"][j, q] = c.tolerance
         cmp_vars["dof"][j, q] = -1.0 if math.isinf(c.dof) else c.dof       # -1: the normal limit
@@ -511,8 +573,10 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
     data["converged"] = variable(("rung",), np.int8(pad.values(lambda d: float(d["converged"])).min(
         axis=1, initial=1, where=has == 1)), "converged")
     data["wall_time"] = variable(("rung",), pad.values(lambda d: float(d["wall_time"])).sum(axis=1), "wall_time")
-    dist = [max([abs(c.shift) for kk, c in zip(table["quantity"], table["cmp"]) if kk == k] or [0.0]) for k in shown]
-    data["observed_order"] = variable(("observable",), np.zeros(len(shown)), "observed_order")
+    compared = [k for k in shown if k in (*STATE_KEYS, *RELATION_KEYS)]
+    dist = [max([abs(c.shift) for kk, c in zip(table["quantity"], table["cmp"]) if kk == k] or [0.0])
+            for k in compared]
+    data["observed_order"] = variable(("observable",), np.zeros(len(compared)), "observed_order")
     data["publication_distance"] = variable(("observable",), dist, "publication_distance")
     coords = {"rung": xr.Variable(("rung",), np.array([g[0].rsplit("-s", 1)[0] for g in groups], dtype=object),
                                   attrs=attrs("scene")),
@@ -520,7 +584,8 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                                                               "parameter": param}),
               "h": xr.Variable(("rung",), h, attrs={**attrs("h"), "definition": hname}),
               "member": variable(("member",), np.arange(has.shape[1]), "member"),
-              "observable": xr.Variable(("observable",), np.array(shown, dtype=object), attrs=attrs("observable")),
+              "observable": xr.Variable(("observable",), np.array(compared, dtype=object),
+                                        attrs=attrs("observable")),
               "quantity": xr.Variable(("quantity",), np.array(quantities, dtype=object), attrs=attrs("quantity"))}
     # every coarser rung against the finest: where along the rod the transmitted force moves
     splits = [_split_by_region(sims, groups, i, len(groups) - 1) for i in range(len(groups) - 1)]
@@ -553,10 +618,15 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value) -> xr.Dataset:
                      "tolerance": tol, "distribution_tolerance": dist_tol, "status": status,
                      "worst_distance": max(dist) if dist else 0.0, "notes": "; ".join(notes),
                      "paired": int(bool(fig_cfg.get("paired", False))),
+                     "serves": (", ".join(f"{s['name']} ({s['seeds']} seeds: {', '.join(s['reports'])})"
+                                          for s in served) or "none"),
                      "method": (f"seed ensembles, two questions: the local relation of the regular helix "
                                 f"({', '.join(RELATION_KEYS)}; analysis.local_relations) within {100 * tol:g} % and "
                                 f"the distribution of final states ({', '.join(STATE_KEYS)}) within "
-                                f"{100 * dist_tol:g} % of every finer rung; each shift of the ensemble mean decided "
+                                + (f"{100 * dist_tol:g} %" if not served else
+                                   f"the larger of {100 * dist_tol:g} % and half the 95 % error of the served "
+                                   "figures' means (the quantities they report; the others described)")
+                                + " of every finer rung; each shift of the ensemble mean decided "
                                 "by its 95 % bound, with the resolution at 95 % power and the Anderson-Darling "
                                 "k-sample p-value stated (analysis.distributions)")})
     return ds
@@ -600,7 +670,10 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
     if "quantity" in ds.coords:
         line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g}, local relation "
                 f"(tolerance {100 * ds.attrs['tolerance']:g} %) and final states (tolerance "
-                f"{100 * ds.attrs['distribution_tolerance']:g} %) against every finer rung: {status}")
+                f"{100 * ds.attrs['distribution_tolerance']:g} %"
+                + ("" if ds.attrs.get("serves", "none") == "none" else
+                   f" or half the 95 % error of the means of {ds.attrs['serves']}")
+                + f") against every finer rung: {status}")
     else:
         line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g} is "
                 + ", ".join(f"{k} {100 * d:.3g} %" for k, d in zip(ds["observable"].values,
@@ -672,6 +745,9 @@ def plot(ds: xr.Dataset):
             ax.set_ylabel(label(k))
             continue
         tol = float(ds.attrs["distribution_tolerance"] if ensemble and k in STATE_KEYS else ds.attrs["tolerance"])
+        if ensemble and (ds["cmp_verdict_code"].sel(quantity=k).values > 0).any():
+            # the tolerance the comparisons were decided against (a served figure's: per quantity)
+            tol = float(ds["cmp_compared_tolerance"].sel(quantity=k).values.max())
         ax.plot(h, f, "-", color="0.6", lw=0.7)
         if ensemble:
             has = ds[f"{k}_has"].values == 1
@@ -697,11 +773,11 @@ def plot(ds: xr.Dataset):
             rows = np.flatnonzero(codes > 0)
             if rows.size:
                 j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
-                word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])]
+                word = {1: "within", 2: "beyond", 3: "undecided", NOT_DECIDING: "not deciding,"}[int(codes[j])]
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
-                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word} {100 * tol:g} %", fontsize=7.5)
+                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word} {100 * tol:.2g} %", fontsize=7.5)
             else:
                 ax.set_title("not compared (fewer than two values)", fontsize=7.5)
         elif k in checked:

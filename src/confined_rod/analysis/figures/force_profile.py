@@ -49,6 +49,10 @@ OPTIONS = {
 
 MIN_CONTACT = 5  # links on the wall below which a profile is not a wall-contact helix
 ENSEMBLES = True
+#: the ensemble means this kind reports (F(L)/F0 and the bulk decay rate over the corrected law,
+#: per panel), named as the convergence ladders compare them: a ladder that ``serves`` one of its
+#: scenes decides on these
+REPORTS = ("F_transmitted", "decay_ratio")
 
 
 def varied(fig_cfg) -> tuple[str, ...]:

@@ -29,6 +29,9 @@ from ..figure_quantities import attrs, label, variable
 from ..measure import half_reduction_length, n_turns
 
 ENSEMBLES = True
+#: the ensemble means this kind reports (F(L)/F0 per point of the map), named as the
+#: convergence ladders compare them: a ladder that ``serves`` one of its scenes decides on these
+REPORTS = ("F_transmitted",)
 AXES = ("L", "load", "k_fr")
 OPTIONS = {
     "grid": {"type": "object", "additionalProperties": False, "required": list(AXES),

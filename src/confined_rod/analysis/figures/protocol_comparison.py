@@ -37,6 +37,11 @@ OPTIONS = {
                                 "l0 (default: the first three variants)"},
 }
 ENSEMBLES = True
+#: the ensemble means this kind reports (F(L)/F0 and the bulk decay rate per protocol), named as the
+#: convergence ladders compare them: a ladder that ``serves`` one of its scenes decides on these. Its
+#: pitch ratio is torque.py's (over the lowest-order sqrt(F/2EI)), not the ladders' (over the exact
+#: torque-free pitch rate), so it is not among them
+REPORTS = ("F_transmitted", "decay_ratio")
 #: the settings a variant may change; everything else is the same in every variant
 VARIED = ("protocol", "ramp_steps", "ramp_start", "ends", "lower_end", "perturbation", "l0", "seed",
           "snapshot_interval", "snapshot_growth")

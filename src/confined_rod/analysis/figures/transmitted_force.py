@@ -24,6 +24,9 @@ from ._common import need_scenes, per_scene, same_except, scene_coord
 OPTIONS: dict = {}
 REGION_KEYS = regions.SUMMARY_KEYS
 ENSEMBLES = True
+#: the ensemble means this kind reports (F(L)/F0 per length), named as the
+#: convergence ladders compare them: a ladder that ``serves`` one of its scenes decides on these
+REPORTS = ("F_transmitted",)
 
 
 def varied(fig_cfg) -> tuple[str, ...]:
