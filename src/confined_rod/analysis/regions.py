@@ -222,8 +222,9 @@ def friction_use(sim: xr.Dataset, region: str = "lower", a: Analysis | None = No
     """The share of the Coulomb limit a region's friction carries axially, weighted by force:
     sum f_z / sum f_max over the region's links on the wall (f_z positive where it lowers |F_z|
     along s; f_max = min(k_fr N, friction_cap)). 1 where every contact slides axially at the
-    limit (the bulk), below 1 where contacts stick or slip azimuthally (the lower region: a few
-    concentrated contacts whose stuck friction the path set). Unlike the per-link mean q, it does
+    limit (the bulk), below 1 where contacts stick or slip azimuthally, negative where the stuck
+    friction holds a compression that grows along s (the lower region of a rod loaded at once: a
+    few concentrated contacts whose friction the path set). Unlike the per-link mean q, it does
     not change when one contact is resolved by more link ends. None without a bulk or without
     wall contact in the region."""
     a = a or analyse(sim)

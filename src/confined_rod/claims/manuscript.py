@@ -617,7 +617,7 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
                  r"\texttt{convergence\_check}): each ladder varies one parameter about its publication value; the "
                  r"column `off' gives, for single runs, the worst distance of the publication value from the "
                  r"Richardson limit over $|F_z(L)|$, $L_z$ and the pitch; for seed ensembles the largest shift of "
-                 r"the publication rung's mean from a finer rung over every compared quantity (the lateral balance "
+                 r"the publication rung's mean from a finer rung over every deciding quantity (the lateral balance "
                  r"of the helix, tolerance before the slash, and the final states with the ratios to the "
                  r"torque-free helix, after it), which is not a distance from a limit. A shift is given $\pm$ its "
                  r"standard error and decided by its 95\,\% bound with Student's factor for the paired seeds; the "

@@ -616,7 +616,10 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"parameter": param, "refinement": hname, "publication_value": publication_value,
                      "tolerance": tol, "distribution_tolerance": dist_tol, "status": status,
-                     "worst_distance": max(dist) if dist else 0.0, "notes": "; ".join(notes),
+                     # the largest shift of a deciding comparison (the table's 'off'; described ones excluded)
+                     "worst_distance": max([abs(c.shift) for c, deciding in zip(table["cmp"], table["deciding"])
+                                            if deciding] or [0.0]),
+                     "notes": "; ".join(notes),
                      "paired": int(bool(fig_cfg.get("paired", False))),
                      "serves": (", ".join(f"{s['name']} ({s['seeds']} seeds: {', '.join(s['reports'])})"
                                           for s in served) or "none"),
@@ -745,9 +748,12 @@ def plot(ds: xr.Dataset):
             ax.set_ylabel(label(k))
             continue
         tol = float(ds.attrs["distribution_tolerance"] if ensemble and k in STATE_KEYS else ds.attrs["tolerance"])
-        if ensemble and (ds["cmp_verdict_code"].sel(quantity=k).values > 0).any():
+        codes_k = ds["cmp_verdict_code"].sel(quantity=k).values if ensemble else np.zeros(0)
+        if (codes_k > 0).any():
             # the tolerance the comparisons were decided against (a served figure's: per quantity)
             tol = float(ds["cmp_compared_tolerance"].sel(quantity=k).values.max())
+        # a quantity no served figure reports is described, not decided: no tolerance band
+        described = bool((codes_k > 0).any() and (codes_k[codes_k > 0] == NOT_DECIDING).all())
         ax.plot(h, f, "-", color="0.6", lw=0.7)
         if ensemble:
             has = ds[f"{k}_has"].values == 1
@@ -765,19 +771,21 @@ def plot(ds: xr.Dataset):
         lim = float(ds[f"{k}_limit"]) if f"{k}_limit" in ds else None
         if lim is not None:
             ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else "Richardson limit")
-            ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
-                       label=rf"{'finest' if ensemble else 'limit'} $\pm$ tolerance")
+            if not described:
+                ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
+                           label=rf"{'finest' if ensemble else 'limit'} $\pm$ tolerance")
         if ensemble:
             q = list(ds["quantity"].values).index(k)
             codes = ds["cmp_verdict_code"].values[:, q]
             rows = np.flatnonzero(codes > 0)
             if rows.size:
                 j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
-                word = {1: "within", 2: "beyond", 3: "undecided", NOT_DECIDING: "not deciding,"}[int(codes[j])]
+                word = ("described, not deciding" if described else
+                        {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %")
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
-                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word} {100 * tol:.2g} %", fontsize=7.5)
+                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word}", fontsize=7.5)
             else:
                 ax.set_title("not compared (fewer than two values)", fontsize=7.5)
         elif k in checked:
