@@ -358,9 +358,9 @@ def test_a_ladder_that_serves_a_small_figure_is_held_to_that_figures_error():
     assert ds["cmp_compared_tolerance"].values[2, iF] == pytest.approx(expected, rel=1e-12)
     assert ds["cmp_verdict_code"].values[2, q.index("helix_balance")] == 1      # the local relation decides
     assert ds["cmp_verdict_code"].values[2, q.index("L_z")] == convergence.NOT_DECIDING
-    assert "half the 95 % error of the 3-seed mean of fig_x.a" in ds.attrs["notes"]
+    assert "half the 95 % error of a mean over the 3 seeds fig_x.a is configured for" in ds.attrs["notes"]
     assert "(described, not deciding: no served figure reports it)" in ds.attrs["notes"]
-    assert ds.attrs["serves"] == "fig_x.a (3 seeds: F_transmitted)"
+    assert ds.attrs["serves"] == "fig_x.a (3 seeds configured: F_transmitted)"
     # a figure of many seeds has a small error: the tolerance falls back to distribution_tolerance
     # and the four seeds are again too few
     big = _ladder((0.27, 0.27, 0.281), served=[{**fig, "seeds": 400}], **kw)

@@ -40,8 +40,11 @@ figure's own statistical error: tol = BUDGET_SHARE t_{n-1} s_lo/(sqrt(n) |mean|)
 the ladder's publication rung (the same rod) and s_lo the one-sided 95 % lower confidence bound
 of its spread, s sqrt((m - 1)/chi2_{0.95}(m - 1)) over its m seeds (0.58 s at m = 3, 0.73 s at
 10): a few seeds that happen to spread widely do not widen the tolerance. At share 1/2 a bias at
-the tolerance adds sqrt(1 + 1/4) - 1 = 12 % to the figure's 95 % error bar (the two in
-quadrature): "numerical bias well below the statistical error of what the figure reports".
+the tolerance is half the 95 % half-width of the figure's mean: an interval that ignores it
+still covers the true value with probability Phi(z/2) - Phi(-3z/2) = 0.83 (z = 1.96, normal
+errors) instead of 0.95, and one widened by it (1.5 times) covers it at least as often as
+stated. It is not random, so it does not add in quadrature; the error budget states it beside
+the figure's statistical error (analysis/error_budget.py).
 
 Tests on constructed ensembles (tests/test_distributions.py): two draws of one distribution
 are ``within`` and pass the AD test at the stated rate; a shift of the resolution is detected

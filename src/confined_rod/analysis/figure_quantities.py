@@ -78,7 +78,8 @@ FIGURE_QUANTITIES = [
     Quantity("shift", r"\delta", "relative shift of the publication rung's ensemble mean from this rung's", "1"),
     Quantity("dof", r"\nu", "degrees of freedom of the shift's standard error (paired seeds less one; "
              "Welch-Satterthwaite unpaired)", "1"),
-    Quantity("shift_se", r"\sigma_\delta", "standard error of the relative shift (Welch)", "1"),
+    Quantity("shift_se", r"\sigma_\delta", "standard error of the relative shift (paired seed by seed where "
+             "the rungs share seeds, Welch otherwise)", "1"),
     Quantity("resolution", r"\delta_{95}", "smallest relative shift of the mean detected with 95 % power by a "
              "two-sided 5 % test of these ensembles", "1"),
     Quantity("p_ad", "p_{AD}", "p-value of the Anderson-Darling k-sample test of the two ensembles (scipy's range "

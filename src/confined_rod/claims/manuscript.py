@@ -18,6 +18,7 @@ Post-processing: reads datasets only.
 from __future__ import annotations
 
 import json
+import math
 import re
 from typing import Any, Iterable, Mapping
 
@@ -25,6 +26,7 @@ import numpy as np
 import xarray as xr
 
 from .. import layout
+from ..analysis import distributions
 from ..analysis.figure_quantities import STATED_PARAMETERS
 from ..analysis.regions import REGIONS
 from .verdicts import VERDICTS, Verdict, fmt
@@ -575,7 +577,7 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
     macros.add("val", "l0_ladder.pitch_theory", "not measured")
     for region in (*REGIONS, "total", "seeds"):
         macros.add("val", f"l0_ladder.region.{region}", "not measured")
-    for key in ("F_shifts", "decay_shifts", "lower_friction_use"):
+    for key in ("F_shifts", "decay_shifts", "lower_friction_use", "F_bound"):
         macros.add("val", f"l0_ladder.{key}", "not measured")
     for name, ds in sorted(datasets.items()):
         for attr in SCENE_ATTRS:                # the parameters its scenes share, e.g. \val{fig7_tiny_force.load}
@@ -605,7 +607,17 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
         cells += [tex_value(fmt(float(x)))[0] for x in (a["L"], a["load"], a["k_fr"], a["publication_value"])]
         tol = tex_value(fmt(100 * float(a["tolerance"])))[0]
         if "distribution_tolerance" in a:       # an ensemble ladder: the relation's / the final states'
-            tol += "/" + tex_value(fmt(100 * float(a["distribution_tolerance"])))[0]
+            final = [100 * float(a["distribution_tolerance"])]
+            if str(a.get("serves", "none")) != "none" and "cmp_compared_tolerance" in ds:
+                # the tolerances the final states were decided against (a served figure's error where larger)
+                from ..analysis.figures.convergence import RELATION_KEYS
+                codes = ds["cmp_verdict_code"].values
+                states = np.array([str(k) not in RELATION_KEYS for k in ds["quantity"].values])
+                used = ds["cmp_compared_tolerance"].values[(codes >= 1) & (codes <= 3) & states[None, :]]
+                final = sorted({float(format(100 * float(x), ".2g")) for x in used}) or final
+            tol += "/" + tex_value(fmt(final[0]))[0]
+            if final[-1] != final[0]:
+                tol += "--" + tex_value(fmt(final[-1]))[0]
             if str(a.get("serves", "none")) != "none":      # or half the served figures' error (caption)
                 tol += r"$^\ast$"
         cells.append(tol)
@@ -619,12 +631,13 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
                  r"Richardson limit over $|F_z(L)|$, $L_z$ and the pitch; for seed ensembles the largest shift of "
                  r"the publication rung's mean from a finer rung over every deciding quantity (the lateral balance "
                  r"of the helix, tolerance before the slash, and the final states with the ratios to the "
-                 r"torque-free helix, after it), which is not a distance from a limit. A shift is given $\pm$ its "
+                 r"torque-free helix, after it), which is not a distance from a limit. In the checks, a shift is given $\pm$ its "
                  r"standard error and decided by its 95\,\% bound with Student's factor for the paired seeds; the "
                  r"Anderson--Darling $p$ of the checks is scipy's, capped at 0.25. $^\ast$: the ladder vouches "
                  r"for figures of a few seeds (its \texttt{serves}) and decides on the quantities they report, "
-                 r"each held to the larger of this tolerance and half the 95\,\% error of the figure's mean "
-                 r"(Sec.~``Convergence checks'' of the documentation). A verdict cut short is given in "
+                 r"each held to the larger of the ladder's distribution tolerance and half the 95\,\% error of "
+                 r"the figure's mean; after the slash the range of tolerances so used (Sec.~``Convergence "
+                 r"checks'' of the documentation). A verdict cut short is given in "
                  r"full in "
                  rf"\texttt{{{layout.CHECKS}}}.}}\label{{tab:convergence}}" "\n" r"\small" "\n"
                  r"\begin{tabular}{@{}lllllllp{0.36\linewidth}@{}}\hline" "\n"
@@ -742,6 +755,16 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
                      for j in range(pub + 1, ds.sizes["rung"]) if int(ds["cmp_verdict_code"].values[j, q])]
             if parts:
                 macros.add_text("val", f"l0_ladder.{key}", " and ".join(parts))
+        if "F_transmitted" in list(ds["quantity"].values):
+            # the 95 % bound of the publication rung's F(L) shift against the finest rung, beside its tolerance
+            q = list(ds["quantity"].values).index("F_transmitted")
+            j = ds.sizes["rung"] - 1
+            if int(ds["cmp_verdict_code"].values[j, q]):
+                t95 = distributions.t_quantiles(float(ds["cmp_dof"].values[j, q])
+                                                if ds["cmp_dof"].values[j, q] > 0 else math.inf)[0]
+                bound = 100 * (abs(float(ds["cmp_shift"].values[j, q])) + t95 * float(ds["cmp_shift_se"].values[j, q]))
+                macros.add("val", "l0_ladder.F_bound", f"{bound:.2g} % (tolerance "
+                           f"{100 * float(ds['cmp_compared_tolerance'].values[j, q]):.2g} %)")
         if "lower_friction_use" in ds:
             # the lower region's friction use per rung, coarse to fine (where the ladder's F(L) moves)
             use = ", ".join(f"{float(m):.3f} +- {float(e):.3f}" for m, e in

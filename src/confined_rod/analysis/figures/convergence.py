@@ -412,7 +412,8 @@ def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, ipub: i
         budget = (distributions.budget_tolerance(x, int(figure["seeds"]))
                   if x.size >= 2 and x.mean() != 0.0 and figure["seeds"] >= 2 else 0.0)
         if budget > dist_tol:
-            out[k] = (budget, f" (half the 95 % error of the {figure['seeds']}-seed mean of {figure['name']})")
+            out[k] = (budget, f" (half the 95 % error of a mean over the {figure['seeds']} seeds "
+                              f"{figure['name']} is configured for; seeds it leaves out widen its error)")
         else:
             out[k] = (dist_tol, "")
     return out
@@ -621,7 +622,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
                                             if deciding] or [0.0]),
                      "notes": "; ".join(notes),
                      "paired": int(bool(fig_cfg.get("paired", False))),
-                     "serves": (", ".join(f"{s['name']} ({s['seeds']} seeds: {', '.join(s['reports'])})"
+                     "serves": (", ".join(f"{s['name']} ({s['seeds']} seeds configured: {', '.join(s['reports'])})"
                                           for s in served) or "none"),
                      "method": (f"seed ensembles, two questions: the local relation of the regular helix "
                                 f"({', '.join(RELATION_KEYS)}; analysis.local_relations) within {100 * tol:g} % and "
@@ -675,7 +676,7 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
                 f"(tolerance {100 * ds.attrs['tolerance']:g} %) and final states (tolerance "
                 f"{100 * ds.attrs['distribution_tolerance']:g} %"
                 + ("" if ds.attrs.get("serves", "none") == "none" else
-                   f" or half the 95 % error of the means of {ds.attrs['serves']}")
+                   f", or half the 95 % error of the means of {ds.attrs['serves']} where that is larger")
                 + f") against every finer rung: {status}")
     else:
         line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g} is "
