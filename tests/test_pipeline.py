@@ -93,11 +93,11 @@ def test_shared_scenes_are_simulated_once():
     assert len(sims) == len(set(sims)) == sum(by_folder.values())
     # Fig 6: 6 lengths x 5 seeds; Fig 4: 5 seeds of (a) and the 2 seeds of (b) beyond the jamming
     # map's 3 ((c) is Fig 6's L/R = 320);
-    # the l0 ladder: 4 rungs x 64 seeds less the 5 of Fig 6; the jamming map: 72 points (6 L x 2 loads
+    # the l0 ladder: 5 rungs x 64 seeds less the 5 of Fig 6; the jamming map: 72 points (6 L x 2 loads
     # x 2 k_fr x 3 seeds) less the 15 of Fig 6
     folder = lambda place, figure: str(place / figure)  # noqa: E731
     assert by_folder[folder(layout.SIMS, "fig6_FonL")] == 30 and by_folder[folder(layout.SIMS, "fig4_Fonl")] == 5 + 2
-    assert by_folder[folder(layout.SIMS, "conv_l0")] == 4 * 64 - 5
+    assert by_folder[folder(layout.SIMS, "conv_l0")] == 5 * 64 - 5
     assert by_folder[folder(layout.SIMS, "jamming_map")] == 72 - 15
     assert by_folder[folder(layout.PROBES, "stability_map")] == 57
     assert sum(str(Path(p).parent) == folder(layout.PATHS, "fig3_bifurcation") for p in sims) == 9

@@ -577,7 +577,7 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
     macros.add("val", "l0_ladder.pitch_theory", "not measured")
     for region in (*REGIONS, "total", "seeds"):
         macros.add("val", f"l0_ladder.region.{region}", "not measured")
-    for key in ("F_shifts", "decay_shifts", "lower_friction_use", "F_bound"):
+    for key in ("F_shifts", "decay_shifts", "lower_friction_use", "F_bound", "verdict"):
         macros.add("val", f"l0_ladder.{key}", "not measured")
     for name, ds in sorted(datasets.items()):
         for attr in SCENE_ATTRS:                # the parameters its scenes share, e.g. \val{fig7_tiny_force.load}
@@ -755,6 +755,8 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
                      for j in range(pub + 1, ds.sizes["rung"]) if int(ds["cmp_verdict_code"].values[j, q])]
             if parts:
                 macros.add_text("val", f"l0_ladder.{key}", " and ".join(parts))
+        from ..analysis.figures.convergence import verdict_word
+        macros.add("val", "l0_ladder.verdict", verdict_word(str(ds.attrs["status"])))
         if "F_transmitted" in list(ds["quantity"].values):
             # the 95 % bound of the publication rung's F(L) shift against the finest rung, beside its tolerance
             q = list(ds["quantity"].values).index("F_transmitted")
