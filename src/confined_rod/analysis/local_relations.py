@@ -74,12 +74,13 @@ def regular_links(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> 
     return run[q:run.size - q]
 
 
-def measure(sim: xr.Dataset) -> dict[str, float | None]:
+def measure(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> dict[str, float | None]:
     """The relations of one scene dataset; None where one is not defined (no regular helix of
-    MIN_LINKS links, no friction for the decay ratio)."""
+    MIN_LINKS links, no friction for the decay ratio). ``analysis``: the dataset's
+    regions.analyse, if the caller has it already."""
     a = sim.attrs
     R, EI = float(a["R"]), float(a["EI"])
-    an = regions.analyse(sim) if float(a["k_fr"]) > 0.0 else None
+    an = (analysis or regions.analyse(sim)) if float(a["k_fr"]) > 0.0 else None
     out: dict[str, float | None] = {k: None for k in RELATIONS}
     if an is not None and an.bulk is not None and an.model > 0:
         out["decay_ratio"] = an.bulk.rate / an.model

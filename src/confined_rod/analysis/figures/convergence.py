@@ -379,10 +379,9 @@ def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
     sh = ensembles.shape(sim)
     out: dict[str, float | None] = {"F_transmitted": float(sim["F_transmitted"]), "L_z": float(sim["L_z"]),
                                     "total_turns": sh.total_turns, "n_reversals": float(sh.reversals.size)}
-    rel = local_relations.measure(sim)
-    out.update(rel)
     frictional = float(sim.attrs["k_fr"]) > 0
     an = regions.analyse(sim) if frictional else None
+    out.update(local_relations.measure(sim, an))
     out["lower_length"] = float(regions.summary(sim, an)["lower_length"]) if frictional else None
     # the share of the Coulomb limit the lower region's contacts carry axially (where the frictional
     # l0 ladder's shift of F(L) sits: docs/model.md, "What l0 changes")
