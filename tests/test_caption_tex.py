@@ -243,3 +243,10 @@ def test_figure_floats_use_the_converter_and_natural_size():
     assert r"$|F_{z}(L)|$" in tex and r"$k_{\mathrm{fr}} = 0.8$" in tex
     assert r"\crfigure{fig_x.pdf}" in tex and r"\providecommand{\crfigure}" in tex
     assert r"\texttt{" + paper.tex_escape(layout.dataset_path("fig_x")) + "}" in tex and r"\texttt{0123456789ab}" in tex
+
+
+def test_no_caption_carries_an_unformatted_placeholder():
+    """A '{name}' left in a caption is an f-string prefix forgotten on one line of it (the
+    convergence captions printed 'The publication value {p} =')."""
+    for name, caption in _captions().items():
+        assert not re.search(r"\{[A-Za-z_][A-Za-z_0-9.]*(:[^}]*)?\}", caption), (name, caption)

@@ -483,12 +483,12 @@ def test_loading_path_claim_orders_by_pitch_not_by_the_size_of_the_torque():
     # b carries the smallest torque but sits on the small-pitch branch: a is nearest the torque-free pitch
     common = dict(torque_friction_ratio=[0.54, -0.51, 2.95], K_ratio_from_torque=[1.0, 0.13, 0.39],
                   fraction=[0.1, 0.24, 0.72])
-    ds = _protocols(["a", "b", "c"], pitch_ratio=[1.12, 0.27, 1.45], K_ratio=[0.98, 0.18, 0.38],
+    ds = _protocols(["a", "b", "c"], pitch_w0_ratio=[1.12, 0.27, 1.45], K_ratio=[0.98, 0.18, 0.38],
                     decay_ratio=[0.96, 0.15, 0.16], **common)
     spec = {"figure": "p", "variants": ["a", "b", "c"]}
     value, holds, _, note = claims.MEASURES["loading_path_torque"](claims.Evidence({"p": ds}), spec, "x")
     assert holds is True and value == pytest.approx(0.98) and "pitch nearest the torque-free one: a" in note
-    ds = _protocols(["a", "b", "c"], pitch_ratio=[1.12, 0.27, 1.45], K_ratio=[0.3, 0.9, 0.38],
+    ds = _protocols(["a", "b", "c"], pitch_w0_ratio=[1.12, 0.27, 1.45], K_ratio=[0.3, 0.9, 0.38],
                     decay_ratio=[0.96, 0.15, 0.16], **common)
     assert claims.MEASURES["loading_path_torque"](claims.Evidence({"p": ds}), spec, "x")[1] is False
 

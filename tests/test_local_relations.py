@@ -45,6 +45,23 @@ def test_no_helix_no_relation():
                               "helix_balance": None}
 
 
+def test_a_stretch_shorter_than_a_turn_is_no_helix():
+    """The bulk between a long detached tip (s < 70 R from the loaded end) and a detached stretch
+    at the support winds less than a turn: an arc, not a helix, so no relation is read on it; the
+    same helix with a bulk of several turns gives them."""
+    from confined_rod.analysis import regions
+
+    short = constructed_helix(tip=70.0, bottom=15.0)
+    r = regions.analyse(short).regions
+    bulk = np.flatnonzero((short.s_link.values >= r.s_bulk_start) & (short.s_link.values <= r.s_bulk_end))
+    assert 0.2 < LR.winding_turns(short, bulk) < LR.MIN_TURNS      # an arc of the helix
+    assert LR.regular_links(short).size == 0
+    assert LR.measure(short) == dict.fromkeys(LR.RELATIONS)    # the decay law is a helix's too
+    long = constructed_helix(tip=10.0, bottom=20.0)
+    assert LR.winding_turns(long, LR.regular_links(long)) >= 2 * LR.MIN_TURNS
+    assert LR.measure(long)["helix_balance"] is not None
+
+
 def _balance(ds, c_K, c_w):
     """The expected K / (rho w^2 (F/c - EI w^2)) of a constructed helix (rho = R = EI = 1) over its
     regular links: K = c_K F^2/4 at the link's F, w = c_w w(F)."""

@@ -86,7 +86,7 @@ def test_bulk_summary_of_the_constructed_helix():
     assert out["torque_friction_ratio"] == pytest.approx(np.median(-tau_profile(s[bulk]) / tau0), rel=1e-9)
     assert out["torque_helix_ratio"] == pytest.approx(out["torque_friction_ratio"], rel=1e-4)
     assert out["K_ratio"] == pytest.approx(out["K_ratio_from_torque"], rel=1e-3)
-    assert out["pitch_ratio"] == pytest.approx(np.median(abs(W) / np.sqrt(F / 2)), rel=1e-9)
+    assert out["pitch_w0_ratio"] == pytest.approx(np.median(abs(W) / np.sqrt(F / 2)), rel=1e-9)
     assert torque.bulk_summary(ds, np.zeros(N, dtype=bool))["K_ratio"] == 0.0
 
 

@@ -285,7 +285,8 @@ FIGURE_QUANTITIES = [
          "friction left in the rod, signed along the handedness, over EI R^2 w0^3, w0 = sqrt(|F_z|/(2EI))"),
         ("torque_helix_ratio", r"\tau_{helix}\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque "
          "the local helix carries, rho^2 w (2EI w^2 - |F_z|/c), over EI R^2 w0^3"),
-        ("pitch_ratio", "|w|/w_0", "median over the bulk of the pitch rate over the torque-free sqrt(|F_z|/(2EI))"),
+        ("pitch_w0_ratio", "|w|/w_0", "median over the bulk of the pitch rate over the lowest-order "
+         "torque-free rate w0 = sqrt(|F_z|/(2EI)) (pitch_ratio: over the exact one)"),
         ("K_ratio", r"K/K_{model}", "bulk wall force per length over the corrected simple model's R F_z^2/(4EI)"),
         ("K_ratio_from_torque", r"K_\tau/K_{model}", "bulk wall force per length predicted by the local pitch and "
          "the friction's torque, (EI rho^2 w^4 - w tau)/rho, over R F_z^2/(4EI)"),

@@ -31,7 +31,13 @@ order in R w, R F^2/(4EI): the simple model's wall force.
 
 Where the helix is regular: with friction the bulk of regions.detect less half a smoothing
 window at each end (where the friction is at its Coulomb limit and mostly axial); without
-friction the middle half of the longest stretch of links on the wall. Dimensions: every ratio
+friction the middle half of the longest stretch of links on the wall; in both, only if the
+whole stretch (the bulk's links on the wall, or that longest stretch) winds at least MIN_TURNS
+full turns about the axis. The relations are those of a helix
+whose wall force is the same all around a turn; a stretch on the wall shorter than a turn is an
+arc held between its detachment points (a handedness reversal or a detached stretch beside it),
+whose wall force is set by those ends, not by the balance (seen in the l0 ladder: a 15 R arc of
+0.5 turn between a reversal and the detached lower region balances at 0.70). Dimensions: every ratio
 is a number (K in EI/R^3 over R F^2/EI; w in 1/R). Test twin: tests/test_local_relations.py
 builds a helix with a prescribed F(s) and reads back the rate, K and w it was built with.
 
@@ -52,6 +58,18 @@ RELATIONS = ("decay_ratio", "wall_force_ratio", "pitch_ratio", "helix_balance")
 UNIVERSAL = ("helix_balance",)
 #: the least links of regular helix a median needs
 MIN_LINKS = 8
+#: the least azimuthal winding, in turns, of the stretch a relation is read on (module docstring)
+MIN_TURNS = 1.0
+
+
+def winding_turns(sim: xr.Dataset, idx: np.ndarray) -> float:
+    """|phi(s_last) - phi(s_first)| / 2 pi over the links idx (phi unwrapped along s_helix); 0
+    for fewer than two links."""
+    if idx.size < 2 or sim["s_helix"].size < 2:
+        return 0.0
+    s = np.asarray(sim["s_link"].values, dtype=float)[[idx[0], idx[-1]]]
+    phi = np.interp(s, np.asarray(sim["s_helix"].values, dtype=float), np.asarray(sim["phi"].values, dtype=float))
+    return float(abs(phi[1] - phi[0]) / (2.0 * np.pi))
 
 
 def regular_links(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> np.ndarray:
@@ -63,28 +81,31 @@ def regular_links(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> 
         an = analysis or regions.analyse(sim)
         if not an.regions.has_bulk:
             return np.zeros(0, dtype=int)
+        r = an.regions
+        stretch = np.flatnonzero((s_link >= r.s_bulk_start) & (s_link <= r.s_bulk_end) & contact)
         edge = 0.5 * regions.WINDOW_R * float(a["R"])
-        keep = (s_link >= an.regions.s_bulk_start + edge) & (s_link <= an.regions.s_bulk_end - edge) & contact
-        return np.flatnonzero(keep)
-    runs = helix_runs(contact)
-    if not runs:
-        return np.zeros(0, dtype=int)
-    run = max(runs, key=len)
-    q = run.size // 4
-    return run[q:run.size - q]
+        idx = np.flatnonzero((s_link >= r.s_bulk_start + edge) & (s_link <= r.s_bulk_end - edge) & contact)
+    else:
+        runs = helix_runs(contact)
+        if not runs:
+            return np.zeros(0, dtype=int)
+        stretch = max(runs, key=len)
+        q = stretch.size // 4
+        idx = stretch[q:stretch.size - q]
+    return idx if winding_turns(sim, stretch) >= MIN_TURNS else np.zeros(0, dtype=int)
 
 
 def measure(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> dict[str, float | None]:
     """The relations of one scene dataset; None where one is not defined (no regular helix of
-    MIN_LINKS links, no friction for the decay ratio). ``analysis``: the dataset's
+    MIN_LINKS links, no friction for the decay ratio, a bulk that winds less than MIN_TURNS). ``analysis``: the dataset's
     regions.analyse, if the caller has it already."""
     a = sim.attrs
     R, EI = float(a["R"]), float(a["EI"])
     an = (analysis or regions.analyse(sim)) if float(a["k_fr"]) > 0.0 else None
     out: dict[str, float | None] = {k: None for k in RELATIONS}
-    if an is not None and an.bulk is not None and an.model > 0:
-        out["decay_ratio"] = an.bulk.rate / an.model
     idx = regular_links(sim, an)
+    if an is not None and an.bulk is not None and an.model > 0 and idx.size:    # the bulk is a helix
+        out["decay_ratio"] = an.bulk.rate / an.model
     if idx.size < MIN_LINKS:
         return out
     F = force_at_links(sim)[idx]

@@ -89,7 +89,7 @@ def torque_scale(F, R: float, EI: float):
 
 
 #: the scalars of bulk_summary (quantities.py names)
-SUMMARY_KEYS = ("torque_friction_ratio", "torque_helix_ratio", "pitch_ratio", "K_ratio", "K_ratio_from_torque")
+SUMMARY_KEYS = ("torque_friction_ratio", "torque_helix_ratio", "pitch_w0_ratio", "K_ratio", "K_ratio_from_torque")
 
 
 @dataclass(frozen=True)
@@ -161,6 +161,6 @@ def bulk_summary(sim: xr.Dataset, bulk: np.ndarray, b: Budget | None = None) -> 
     K_pred = helix_wall_force(rho, w, b.tau_friction[m], EI)
     return {"torque_friction_ratio": float(np.median(sgn * b.tau_friction[m] / b.tau0[m])),
             "torque_helix_ratio": float(np.median(sgn * b.tau_helix[m] / b.tau0[m])),
-            "pitch_ratio": float(np.median(np.abs(w) / np.sqrt(F / (2.0 * EI)))),
+            "pitch_w0_ratio": float(np.median(np.abs(w) / np.sqrt(F / (2.0 * EI)))),
             "K_ratio": float(np.mean(K_meas) / np.mean(K_model)),
             "K_ratio_from_torque": float(np.mean(K_pred) / np.mean(R * F**2 / (4.0 * EI)))}

@@ -520,7 +520,7 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     .n_reversals, \\val{<figure>.ramp_change} (the finest ramp step's paired change of F(L) over the seeds
     that keep their final state, %; only with two or more of them), .ramp_state_changes (the seeds that
     changed it) and .ramp_mean_change (the change of the ensemble mean, %)."""
-    two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_ratio", "K_ratio", "K_ratio_from_torque",
+    two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_w0_ratio", "K_ratio", "K_ratio_from_torque",
            "lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
     for i, v in enumerate(ds.variant.values):
         for key in ("lower_length", "tip_length", "n_reversals", "lower_torque", "bulk_torque_max") + two:

@@ -69,26 +69,26 @@ def loading_path_torque(ev, spec, claim):
         if not ds["has_bulk_member"].values[i].any():
             return Measured(0.0, None, f"{dataset_path(spec['figure'])}:has_bulk_member", \
                 f"no run of variant {v!r} has a bulk helix (L/R = {float(ds.attrs.get('L', 0)):g}): nothing to compare")
-        rows.append((v, {k: _mean_sd(ds, k, i) for k in ("torque_friction_ratio", "pitch_ratio", "K_ratio",
+        rows.append((v, {k: _mean_sd(ds, k, i) for k in ("torque_friction_ratio", "pitch_w0_ratio", "K_ratio",
                                                            "K_ratio_from_torque", "decay_ratio", "fraction")}))
 
     def apart(key):
         return all(abs(a[1][key][0] - b[1][key][0]) > 2 * max(a[1][key][1], b[1][key][1])
                    for k, a in enumerate(rows) for b in rows[k + 1:])
 
-    nearest = min(rows, key=lambda r: abs(r[1]["pitch_ratio"][0] - 1.0))
+    nearest = min(rows, key=lambda r: abs(r[1]["pitch_w0_ratio"][0] - 1.0))
     top_K = max(rows, key=lambda r: r[1]["K_ratio"][0])
     top_rate = max(rows, key=lambda r: r[1]["decay_ratio"][0])
-    holds = apart("pitch_ratio") and apart("torque_friction_ratio") and nearest is top_K and nearest is top_rate
+    holds = apart("pitch_w0_ratio") and apart("torque_friction_ratio") and nearest is top_K and nearest is top_rate
     note = "; ".join(f"{v}: tau/tau_0 {d['torque_friction_ratio'][0]:.2f} +- {d['torque_friction_ratio'][1]:.2f}, "
-                     f"pitch {d['pitch_ratio'][0]:.2f} +- {d['pitch_ratio'][1]:.2f} of torque-free, K "
+                     f"pitch {d['pitch_w0_ratio'][0]:.2f} +- {d['pitch_w0_ratio'][1]:.2f} of the lowest-order torque-free w0, K "
                      f"{d['K_ratio'][0]:.2f} of R F^2/(4EI) (from pitch and torque {d['K_ratio_from_torque'][0]:.2f}), "
                      f"decay rate {d['decay_ratio'][0]:.2f} +- {d['decay_ratio'][1]:.2f} of the corrected law, "
                      f"F(L)/F(0) {d['fraction'][0]:.2f}" for v, d in rows)
     note += (f"; pitch nearest the torque-free one: {nearest[0]}, largest K: {top_K[0]}, largest decay rate: "
              f"{top_rate[0]}")
     return Measured(nearest[1]["K_ratio"][0], holds, \
-        f"{dataset_path(spec['figure'])}:torque_friction_ratio_mean, pitch_ratio_mean, K_ratio_mean, " \
+        f"{dataset_path(spec['figure'])}:torque_friction_ratio_mean, pitch_w0_ratio_mean, K_ratio_mean, " \
         "decay_ratio_mean", note)
 
 
