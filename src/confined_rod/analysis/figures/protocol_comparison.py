@@ -37,11 +37,13 @@ OPTIONS = {
                                 "l0 (default: the first three variants)"},
 }
 ENSEMBLES = True
-#: the ensemble means this kind reports (F(L)/F0 and the bulk decay rate per protocol), named as the
-#: convergence ladders compare them: a ladder that ``serves`` one of its scenes decides on these. Its
-#: pitch ratio is torque.py's (over the lowest-order sqrt(F/2EI)), not the ladders' (over the exact
-#: torque-free pitch rate), so it is not among them
-REPORTS = ("F_transmitted", "decay_ratio")
+#: the ensemble means this kind reports (F(L)/F0, the bulk decay rate, the bulk's wall force and pitch
+#: rate per protocol), named as the convergence ladders compare them: a ladder that ``serves`` one of its
+#: scenes decides on these. The figure's K_ratio (bulk mean of K over R F^2/(4EI)) and pitch_w0_ratio
+#: (over the lowest-order w0 = sqrt(F/2EI)) are read by the ladders as wall_force_ratio and pitch_ratio
+#: (medians over the regular helix, the pitch over the exact torque-free rate w(F)): the denominators are
+#: functions of the local force, so a numerical shift of one ratio is the other's to first order
+REPORTS = ("F_transmitted", "decay_ratio", "wall_force_ratio", "pitch_ratio")
 #: the settings a variant may change; everything else is the same in every variant
 VARIED = ("protocol", "ramp_steps", "ramp_start", "ends", "lower_end", "perturbation", "l0", "seed",
           "snapshot_interval", "snapshot_growth")
