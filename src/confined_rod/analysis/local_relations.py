@@ -97,8 +97,8 @@ def regular_links(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> 
 
 def measure(sim: xr.Dataset, analysis: regions.Analysis | None = None) -> dict[str, float | None]:
     """The relations of one scene dataset; None where one is not defined (no regular helix of
-    MIN_LINKS links, no friction for the decay ratio, a bulk that winds less than MIN_TURNS). ``analysis``: the dataset's
-    regions.analyse, if the caller has it already."""
+    MIN_LINKS links, no friction for the decay ratio, a bulk that winds less than MIN_TURNS).
+    ``analysis``: the dataset's regions.analyse, if the caller has it already."""
     a = sim.attrs
     R, EI = float(a["R"]), float(a["EI"])
     an = (analysis or regions.analyse(sim)) if float(a["k_fr"]) > 0.0 else None

@@ -81,7 +81,8 @@ def loading_path_torque(ev, spec, claim):
     top_rate = max(rows, key=lambda r: r[1]["decay_ratio"][0])
     holds = apart("pitch_w0_ratio") and apart("torque_friction_ratio") and nearest is top_K and nearest is top_rate
     note = "; ".join(f"{v}: tau/tau_0 {d['torque_friction_ratio'][0]:.2f} +- {d['torque_friction_ratio'][1]:.2f}, "
-                     f"pitch {d['pitch_w0_ratio'][0]:.2f} +- {d['pitch_w0_ratio'][1]:.2f} of the lowest-order torque-free w0, K "
+                     f"pitch {d['pitch_w0_ratio'][0]:.2f} +- {d['pitch_w0_ratio'][1]:.2f} of the lowest-order "
+                     "torque-free w0, K "
                      f"{d['K_ratio'][0]:.2f} of R F^2/(4EI) (from pitch and torque {d['K_ratio_from_torque'][0]:.2f}), "
                      f"decay rate {d['decay_ratio'][0]:.2f} +- {d['decay_ratio'][1]:.2f} of the corrected law, "
                      f"F(L)/F(0) {d['fraction'][0]:.2f}" for v, d in rows)
