@@ -329,6 +329,35 @@ def test_a_light_sliding_contact_whose_bound_cycles_settles():
     assert st.steps - steps < 500
 
 
+def test_a_step_never_holds_a_link_beyond_the_bound_at_its_solution():
+    """When the re-solves near rest do not close, the last one's extrapolated bound could lie above
+    the bound at the step's solution, and the step was accepted with a link held there: stuck beyond
+    Coulomb's limit (its tangential load 0.3 % above k_fr N), step after step, while the equilibrium
+    test at the end state's bound never passed. Found at the publication numerics: protocols/ramp-s2
+    (L/R = 320, ramp of 128 loads, seed 2) spent 65 000 steps and 1 000 s in ramp stage 114 and
+    ended at t_max = 1e9 with eps_F = 345. Now that stage settles in a few thousand steps (this
+    test: the 114 stages, ~5 s), and no accepted step holds a link above its end state's bound."""
+    import dataclasses
+
+    from confined_rod.sim.solvers import base, implicit
+    from confined_rod.sim.solvers import implicit_kernels as IK
+
+    sc = Scene(L=320.0, load=0.25, k_fr=0.8, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5, seed=2, protocol="ramp",
+               ramp_steps=128, name="held")
+    r, t = sc.initial_state()
+    st = base.RunState(r=r, t=t)
+    for F in sc.ramp_loads()[:114]:
+        stage = dataclasses.replace(base.ramp_stage(sc, float(F)), max_steps=st.steps + 6000)  # a stall fails fast
+        stepper = implicit.ImplicitStepper(stage)
+        base.relax(stage, st, stepper, progress=False)
+        assert st.converged, f"ramp stage at load {F:.3g}"
+    bound = stepper._bound(st.r, st.t)
+    held = np.array([stepper.kt * np.hypot(*IK.tangential_offset(st.r, st.anchor, stepper.frame, i))
+                     for i in range(sc.N)])
+    on = bound > 0
+    assert np.all(np.minimum(held[on], stepper.fmax[on]) <= bound[on] + stepper.gtol_F)
+
+
 @pytest.mark.parametrize("eigenvalues", [(-0.5, 0.3, 0.9), (-1.0, -1.0, 0.5), (-3.0, 0.5, 2.0)])
 def test_anderson_passes_solve_a_linear_fixed_point_that_substitution_cannot(eigenvalues, rng):
     """The normal-force passes solve f = G(f). For a linear G(x) = J x + b of n distinct
