@@ -18,7 +18,8 @@ from confined_rod.sim.model import kernels as K
 def pair(**kw):
     out = []
     for solver in ("explicit", "implicit"):
-        out.append(simulate(Scene(load=0.25, l0=1.0, tol=1e-4, solver=solver, **kw), progress=False))
+        out.append(simulate(Scene(load=0.25, l0=1.0, tol=1e-4, solver=solver, friction_at="centre", **kw),
+                            progress=False))
     return out
 
 
@@ -32,6 +33,10 @@ def test_frictionless_equilibrium_is_the_same():
 
 @pytest.mark.parametrize("L", [10.0, 20.0])
 def test_frictional_equilibrium_matches_within_one_percent(L):
+    """Friction at the link centres: the explicit scheme's rigid Coulomb rule and the implicit
+    stick spring land in the same equilibrium. (With friction at the link ends a stuck link also
+    holds a torque, the set of equilibria is wider, and one seed's end state moves by 1-3 % with
+    dx_max, non-monotonically; the two schemes are compared on their paths instead, below.)"""
     ex, im = pair(L=L, k_fr=0.8)
     assert ex.converged and im.converged
     np.testing.assert_array_equal(im.contact.values, ex.contact.values)
@@ -49,13 +54,42 @@ def test_implicit_is_the_default_and_takes_few_steps():
 def test_dx_max_is_the_accuracy_knob():
     """Refining dx_max moves the frictional result towards the explicit one
     (first order in dx_max)."""
-    ex = simulate(Scene(L=10.0, load=0.25, k_fr=0.8, l0=1.0, tol=1e-4, solver="explicit"), progress=False)
+    kw = dict(L=10.0, load=0.25, k_fr=0.8, l0=1.0, tol=1e-4, friction_at="centre")
+    ex = simulate(Scene(solver="explicit", **kw), progress=False)
     errs = []
     for dx in (0.08, 0.02, 0.005):
-        im = simulate(Scene(L=10.0, load=0.25, k_fr=0.8, l0=1.0, tol=1e-4, dx_max=dx), progress=False)
+        im = simulate(Scene(dx_max=dx, **kw), progress=False)
         errs.append(abs(float(im.F_transmitted) / float(ex.F_transmitted) - 1))
     assert errs[2] < errs[0]
     assert errs[2] < 0.005
+
+
+@pytest.mark.parametrize("friction_at", ["centre", "ends"])
+def test_the_implicit_path_converges_to_the_explicit_one(friction_at):
+    """Backward Euler is first order in its step: from the same helix on the wall (no buckling
+    instability to amplify differences), the implicit state at t = 20 approaches the explicit
+    one (dt ~ 1e-3, converged in dt) as dx_max shrinks. Measured at L/R = 10, k_fr = 0.8, max
+    |r_im - r_ex| for dx_max = 0.02, 0.005, 0.00125: centre 4.4e-3, 1.3e-3, 3.8e-4; ends 4.9e-3,
+    1.5e-3, 4.1e-4 (3.4x and 3.6x per 4x): a factor 2.5 per 4x is asserted, and 1e-3 R at the
+    finest step (a quarter of a link's wall penetration at this load)."""
+    import dataclasses
+
+    from confined_rod.sim.solvers import base, explicit, implicit
+
+    sc = Scene(L=10.0, load=0.25, k_fr=0.8, l0=1.0, tol=1e-4, friction_at=friction_at, protocol="helix")
+    r0, t0 = sc.initial_state()
+    st = base.RunState(r=r0.copy(), t=t0.copy())
+    base.relax(sc, st, explicit.ExplicitStepper(dataclasses.replace(sc, solver="explicit")), t_end=20.0,
+               progress=False)
+    r_ex = st.r.copy()
+    diff = []
+    for dx in (0.02, 0.005, 0.00125):
+        sci = dataclasses.replace(sc, dx_max=dx)
+        st = base.RunState(r=r0.copy(), t=t0.copy())
+        base.relax(sci, st, implicit.ImplicitStepper(sci), t_end=20.0, progress=False)
+        diff.append(float(np.abs(st.r - r_ex).max()))
+    assert diff[0] > 2.5 * diff[1] > 6.25 * diff[2]
+    assert diff[2] < 1e-3
 
 
 def test_an_impossible_state_stops_with_a_message(monkeypatch):
@@ -274,14 +308,16 @@ def test_active_set_model_changes_the_work_not_the_path(L, monkeypatch):
     equilibrium is a set (stuck links may sit anywhere their friction holds), and a path changed
     at the Newton tolerance lands elsewhere in it: measured 2.7e-5 at L/R = 40 with the continuous
     start of seed 1 (2e-8 with the old per-link start), while another equilibrium (half a turn
-    more or less) would move |F_z(L)| by per cent."""
+    more or less) would move |F_z(L)| by per cent. Friction at the link centres: at the link ends
+    the set is wider (a stuck link holds a torque too) and the same change moved |F_z(L)| by
+    1.3e-4 and 1.3e-3 (seeds 1, 2 at L/R = 40), with 12 % fewer and 3 % more gradients."""
     from confined_rod.sim import observables
     from confined_rod.sim.solvers import implicit
 
     out = []
     for flag in (False, True):
         monkeypatch.setattr(implicit, "ACTIVE_SET_MODEL", flag)
-        sc = Scene(L=L, load=0.25, k_fr=0.8, k_ph=1e4, seed=1, name="asm")
+        sc = Scene(L=L, load=0.25, k_fr=0.8, k_ph=1e4, seed=1, name="asm", friction_at="centre")
         st = implicit.run(sc, progress=False)
         assert st.converged
         F = observables.compute(sc, st.r, st.t).F_transmitted
@@ -329,7 +365,8 @@ def test_a_light_sliding_contact_whose_bound_cycles_settles():
     assert st.steps - steps < 500
 
 
-def test_a_step_never_holds_a_link_beyond_the_bound_at_its_solution():
+@pytest.mark.parametrize("friction_at", ["centre", "ends"])
+def test_a_step_never_holds_a_link_beyond_the_bound_at_its_solution(friction_at):
     """When the re-solves near rest do not close, the last one's extrapolated bound could lie above
     the bound at the step's solution, and the step was accepted with a link held there: stuck beyond
     Coulomb's limit (its tangential load 0.3 % above k_fr N), step after step, while the equilibrium
@@ -343,7 +380,7 @@ def test_a_step_never_holds_a_link_beyond_the_bound_at_its_solution():
     from confined_rod.sim.solvers import implicit_kernels as IK
 
     sc = Scene(L=320.0, load=0.25, k_fr=0.8, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5, seed=2, protocol="ramp",
-               ramp_steps=128, name="held")
+               ramp_steps=128, name="held", friction_at=friction_at)
     r, t = sc.initial_state()
     st = base.RunState(r=r, t=t)
     for F in sc.ramp_loads()[:114]:
@@ -352,8 +389,12 @@ def test_a_step_never_holds_a_link_beyond_the_bound_at_its_solution():
         base.relax(stage, st, stepper, progress=False)
         assert st.converged, f"ramp stage at load {F:.3g}"
     bound = stepper._bound(st.r, st.t)
-    held = np.array([stepper.kt * np.hypot(*IK.tangential_offset(st.r, st.anchor, stepper.frame, i))
-                     for i in range(sc.N)])
+    if stepper.ends:  # per link end, at the end's own bound
+        held = np.array([stepper.kt * np.hypot(*K.end_offset(st.r, st.t, st.anchor, stepper.pf, stepper.h, m))
+                         for m in range(2 * sc.N)])
+    else:
+        held = np.array([stepper.kt * np.hypot(*IK.tangential_offset(st.r, st.anchor, stepper.frame, i))
+                         for i in range(sc.N)])
     on = bound > 0
     assert np.all(np.minimum(held[on], stepper.fmax[on]) <= bound[on] + stepper.gtol_F)
 
@@ -423,3 +464,62 @@ def test_the_bound_passes_wait_until_the_step_has_nearly_stopped_moving():
         stp._implicit_normal_forces(r, t, probe)
         counts.append(probe.work.get("normal_force_passes", 0))
     assert counts[0] == 0 and counts[1] > 0
+
+
+def test_friction_at_the_ends_is_the_gradient_and_hessian_of_its_envelope(rng):
+    """Friction at the link ends (friction_at 'ends') enters each Newton step as the stick
+    envelope of every end on the wall, its force and torque added to the loads (_loads) and its
+    Hessian added exactly (end_friction_hessian). Along a random direction p of the step
+    coordinates, dPhi/dalpha must equal g.p and the change of g must equal H p, with ends on
+    both branches (anchors within and beyond f_max/k_t). Central differences with alpha = 1e-6
+    err by ~ alpha^2 |third derivative| ~ 1e-9 of the largest entries (k_w ~ 1e3, the bonds
+    2e3); a term missing from the Hessian (the rotation's lever s h, the slip projector) errs
+    by ~ k_t = 100 on the entries it touches, so 1e-4 relative to |H p| separates them."""
+    from confined_rod.sim.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers.base import RunState
+    from confined_rod.sim.solvers.implicit import ImplicitStepper
+
+    from .conftest import random_state
+
+    scene = Scene(L=12.0, load=0.25, k_fr=0.8, friction_at="ends", friction_cap=0.0)
+    r, t = random_state(scene, rng, lateral=1.0)
+    S = ImplicitStepper(scene, dt=10.0)
+    st = RunState(r=r, t=t)
+    S._start_step(st, 10.0)
+    on = np.flatnonzero(S.fmax > 0.0)
+    assert on.size >= 6
+    # anchors displaced tangentially: half of the ends inside their stick zone, half beyond it
+    reach = S.fmax / S.kt
+    scale = np.where(np.arange(S.fmax.size) % 2 == 0, 0.3, 3.0) * reach
+    S.anchor += (S.pf[:, 1] * rng.normal(size=(S.fmax.size, 1)) + S.pf[:, 2] * rng.normal(size=(S.fmax.size, 1))) \
+        * scale[:, None] / np.sqrt(2.0)
+    IK.tangent_bases(t, S.e1, S.e2)
+    p = rng.normal(size=IK.NDOF * scene.N)
+    p[IK.NDOF - 2::IK.NDOF] *= 0.3
+    p[IK.NDOF - 1::IK.NDOF] *= 0.3
+
+    def phi_g(alpha):
+        g = np.zeros_like(S.g)
+        IK.displace(r, t, S.frame, S.e1, S.e2, p.reshape(scene.N, IK.NDOF), alpha, S.r2, S.t2, S.nu)
+        return S._phi(S.r2.copy(), S.t2.copy(), S.nu.copy(), g), g.ravel().copy()
+
+    a = 1e-6
+    (pp, gp), (pm, gm), (_, g0) = phi_g(a), phi_g(-a), phi_g(0.0)
+    assert (pp - pm) / (2 * a) == pytest.approx(g0 @ p, rel=1e-6)
+    S._hessian(r, t)
+    ab = S.ab
+    n = ab.shape[1]
+    Hp = ab[0] * p
+    for d in range(1, ab.shape[0]):
+        Hp[d:] += ab[d, :n - d] * p[:n - d]
+        Hp[:n - d] += ab[d, :n - d] * p[d:]
+    fd = (gp - gm) / (2 * a)
+    assert np.abs(Hp - fd).max() < 1e-4 * np.abs(fd).max()
+    # and the ends' friction is in it: without its Hessian the same comparison fails
+    S.use_friction = False
+    S._hessian(r, t)
+    Hq = S.ab[0] * p
+    for d in range(1, ab.shape[0]):
+        Hq[d:] += S.ab[d, :n - d] * p[:n - d]
+        Hq[:n - d] += S.ab[d, :n - d] * p[d:]
+    assert np.abs(Hq - fd).max() > 1e-2 * np.abs(fd).max()

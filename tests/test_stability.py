@@ -7,7 +7,7 @@ from confined_rod.analysis.figures.stability_map import build as stability_map
 from confined_rod.io import check_finite
 from confined_rod.sim.probe import STATUS, probe
 
-BASE = {"L": 4.0, "l0": 0.5, "load": 0.5, "k_fr": 0.8, "t_max": 200.0}
+BASE = {"L": 4.0, "l0": 0.5, "load": 0.5, "k_fr": 0.8, "t_max": 1000.0}  # settled by t ~ 300
 
 
 def status(ds):

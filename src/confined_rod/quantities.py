@@ -118,6 +118,9 @@ SCENE_PARAMETERS = [
            "0: none", "1", {"type": "integer", "minimum": 0}),
     _param("rotational_drag", "", "rotational drag: paper (beta_ph l0 R^2) or rigid_link (beta_ph l0^3/12)", "1",
            {"enum": ["paper", "rigid_link"]}),
+    _param("friction_at", "", "where a wall contact's friction acts: centre (the link centre, with the link's summed "
+           "normal force) or ends (each link end on the wall, with its own normal force and stick anchor)", "1",
+           {"enum": ["centre", "ends"]}),
     _param("bending_constant", "",
            "joint bending constant: corrected (C = EI/l0) or paper (the printed C = EI/l0^2, i.e. EI R/l0^2)", "1",
            {"enum": ["corrected", "paper"]}),
@@ -161,8 +164,9 @@ SIMULATION_VARIABLES = [
              "EI R-2"),
     Quantity("axial_balance", r"\Delta F_z", "axial force balance of the rod: load - F_transmitted - sum f_z - sum "
              "f_top - F_body,z (all z forces up positive; 0 at equilibrium, up to the residual)", "EI R-2"),
-    Quantity("friction_phi", r"f_\varphi", "azimuthal component of the wall friction force on the link (along "
-             "e_z x r: positive counter-clockwise seen from the loaded end's side, +z)", "EI R-2"),
+    Quantity("friction_phi", r"f_\varphi", "azimuthal wall friction on the link: its axial torque about the pore "
+             "axis over the link centre's distance rho from it (the azimuthal component along e_z x r with "
+             "friction at the centre; positive counter-clockwise seen from the loaded end's side, +z)", "EI R-2"),
     Quantity("stuck", "", "link in static friction (1) or sliding/free (0)", "1"),
     Quantity("phi", r"\phi", "azimuth of the link centre (unwrapped) along the wall-contact stretch", "rad"),
     Quantity("dphi_ds", r"d\phi/ds", "azimuthal rate along the wall-contact stretch", "rad R-1"),
@@ -206,7 +210,7 @@ SIMULATION_VARIABLES = [
     Quantity("snap_wall_force", "N", "magnitude of the wall normal force on the link (snapshot)", "EI R-2"),
     Quantity("snap_friction_z", "f_z", "axial component of the wall friction force on the link (snapshot)",
              "EI R-2"),
-    Quantity("snap_friction_phi", r"f_\varphi", "azimuthal component of the wall friction force on the link "
+    Quantity("snap_friction_phi", r"f_\varphi", "azimuthal wall friction on the link, as friction_phi "
              "(snapshot)", "EI R-2"),
 ]
 

@@ -99,7 +99,7 @@ def load_path(scene: Scene, loads: Iterable[float], mode: str = "continuation") 
         else:
             nudge(sc, st, len(rows["L_z"]))
             relax_at(sc, st)
-        o = obs.compute(sc, st.r, st.t)
+        o = obs.compute(sc, st.r, st.t, st.anchor)
         dfl, oop = obs.shape_measures(st.r, sc.R)
         for k, v in (("L_z", o.L_z), ("F_transmitted", o.F_transmitted), ("deflection", dfl),
                      ("out_of_plane", oop), ("tol_effective", equilibrium_tol(sc)),

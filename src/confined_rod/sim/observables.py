@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import kernels as K
-from .model.forces import Workspace, evaluate
+from .model.forces import Workspace, end_friction, evaluate
 from .scenes import Scene
 
 
@@ -26,7 +26,7 @@ class Observables:
     contact: np.ndarray
     friction_force: np.ndarray
     friction_z: np.ndarray
-    friction_phi: np.ndarray  # azimuthal component (along e_z x r of the link centre)
+    friction_phi: np.ndarray  # axial torque about the pore axis over rho (the azimuthal component at the centre)
     stuck: np.ndarray
     s_helix: np.ndarray  # contact stretch
     phi: np.ndarray
@@ -73,10 +73,14 @@ def contact_stretch(contact: np.ndarray) -> slice:
     return slice(idx[0], idx[-1] + 1)
 
 
-def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
+def compute(scene: Scene, r: np.ndarray, t: np.ndarray, anchors: np.ndarray | None = None) -> Observables:
+    """The observables of the state (r, t). With friction at the link ends (Scene.friction_at)
+    the friction is the run's own, from its stick anchors ``anchors`` (RunState.anchor); without
+    them (a state no friction has acted on yet) it is the rigid rule at the link centres."""
     par = scene.params()
     ws = Workspace.for_links(scene.N)
-    fz_support, f_floor = evaluate(par, r, t, ws)
+    ends = anchors if scene.friction_at == "ends" else None
+    fz_support, f_floor = evaluate(par, r, t, ws, ends, scene.k_t)
     F_z = axial_forces(scene, r, t, fz_support)
     s = np.arange(scene.N + 1) * scene.l0
     order = np.arange(scene.N)[::-1]  # link index from the loaded end
@@ -90,7 +94,13 @@ def compute(scene: Scene, r: np.ndarray, t: np.ndarray) -> Observables:
     s_helix = s_link[sl]
     dphi = np.gradient(phi, s_helix) if phi.size >= 2 else np.zeros_like(phi)
     rho = np.hypot(rr[:, 0], rr[:, 1])
-    f_phi = np.divide(rr[:, 0] * Ff[:, 1] - rr[:, 1] * Ff[:, 0], rho, out=np.zeros(scene.N), where=rho > 0)
+    # the friction's axial torque about the pore axis on each link, over rho: its azimuthal
+    # component with friction at the centre; at the ends, plus the torque of the end forces
+    # about the centre (the lever arm of an end is R, not rho)
+    tau_z = rr[:, 0] * Ff[:, 1] - rr[:, 1] * Ff[:, 0]
+    if ends is not None and scene.k_fr > 0.0:
+        tau_z = tau_z + end_friction(par, r, t, ends, scene.k_t, Workspace.for_links(scene.N))[order, 2]
+    f_phi = np.divide(tau_z, rho, out=np.zeros(scene.N), where=rho > 0)
     h = 0.5 * scene.l0
     L_z = float((r[-1, 2] + h * t[-1, 2]) - (r[0, 2] - h * t[0, 2]))
     return Observables(

@@ -50,6 +50,7 @@ PROTOCOLS = QUANTITIES["protocol"].choices
 ENDS = QUANTITIES["ends"].choices
 LOWER_END = QUANTITIES["lower_end"].choices
 ROTATIONAL_DRAG = QUANTITIES["rotational_drag"].choices
+FRICTION_AT = QUANTITIES["friction_at"].choices
 SOLVERS = QUANTITIES["solver"].choices
 BENDING_CONSTANT = QUANTITIES["bending_constant"].choices
 UNIT_SYSTEMS = QUANTITIES["unit_system"].choices
@@ -115,6 +116,12 @@ class Scene:
                     settles slowly, over ~5e5 at L = 320 R, and the implicit steps grow as it does)
       max_steps     cap on the number of steps, a work budget that is the same on every
                     machine (0 = none); reaching it ends the run as ``step_cap``
+      friction_at   where a contact's friction acts: 'centre' (default: at the link centre,
+                    with the normal force of both ends; a stuck link still turns freely about
+                    its centre, so an end that touches the wall can slide, and F(L) drifts
+                    with l0) or 'ends' (at each link end on the wall, where the wall force
+                    acts, with that end's own normal force and stick anchor; F(L) converges in
+                    l0 but moves with the stick stiffness k_t). docs/model.md, "Friction"
       rotational_drag 'paper' (gamma_r = beta_ph l0 R^2) or 'rigid_link' (beta_ph l0^3/12)
       bending_constant 'corrected' (C = EI/l0, derived in docs/model.md) or 'paper' (the paper's
                     printed C = EI/l0^2 read in its units R = 1, i.e. C = EI R/l0^2: a rod of
@@ -154,6 +161,7 @@ class Scene:
     t_max: float | None = None
     max_steps: int = 0
     rotational_drag: str = "paper"
+    friction_at: str = "centre"
     bending_constant: str = "corrected"
     snapshot_interval: float = 0.0
     snapshot_growth: float = 1.0
@@ -436,7 +444,7 @@ def _validate(s: Scene) -> None:
             or not 0 <= s.seed <= limits.SEED_MAX):
         fail("seed", f"must be an integer in [0, {limits.SEED_MAX}] (stored as a 64-bit integer)")
     for key, allowed in (("protocol", PROTOCOLS), ("ends", ENDS), ("lower_end", LOWER_END),
-                         ("rotational_drag", ROTATIONAL_DRAG), ("solver", SOLVERS),
+                         ("rotational_drag", ROTATIONAL_DRAG), ("solver", SOLVERS), ("friction_at", FRICTION_AT),
                          ("bending_constant", BENDING_CONSTANT), ("unit_system", UNIT_SYSTEMS)):
         if getattr(s, key) not in allowed:
             fail(key, f"must be one of {', '.join(allowed)}")

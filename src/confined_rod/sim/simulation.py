@@ -22,7 +22,7 @@ def _snapshot_variables(scene: Scene, st) -> dict[str, xr.Variable]:
     """Per snapshot (dimension ``time``): the shape, the axial force at the joints and the wall
     and friction forces on the links, evaluated on the stored state as at the end of a run
     (links from the loaded end)."""
-    snaps = [obs.compute(scene, r, t) for r, t in zip(st.snapshot_r, st.snapshot_t)]
+    snaps = [obs.compute(scene, r, t, a) for r, t, a in zip(st.snapshot_r, st.snapshot_t, st.snapshot_anchor)]
     data = {f"snap_{c}": variable(("t", "s_link"), np.array([o.r[:, i] for o in snaps]), f"snap_{c}")
             for i, c in enumerate("xyz")}
     data["snap_F_z"] = variable(("t", "s"), np.array([o.F_z for o in snaps]), "snap_F_z")
@@ -43,7 +43,7 @@ def simulate(scene: Scene, *, progress: bool = True) -> xr.Dataset:
     t0 = time.perf_counter()
     st = SOLVERS[scene.solver](scene, progress=progress)
     wall = time.perf_counter() - t0
-    o = obs.compute(scene, st.r, st.t)
+    o = obs.compute(scene, st.r, st.t, st.anchor)
     violations = state_violations(scene, st.r, st.t)
     if violations:
         status, reason = "model_violated", "; ".join(violations)

@@ -381,3 +381,162 @@ def explicit_steps(r, t, par, dt, nsteps, Fm, Fp, F, M, Nw, Ff, stuck):
         if n % ESCAPE_CHECK_EVERY == 0 and escaped(r, t, par):
             return n + 1, STOP_ESCAPED
     return nsteps, STEPS_DONE
+
+
+# -- friction at the link ends (Scene.friction_at = "ends"): a contact's friction acts at the
+#    contact point, the link end that presses on the wall, with its own normal force --------
+
+@njit(cache=True)
+def end_normal_forces(r, t, par, Ne):
+    """Ne (2N,): the pore wall's normal force on each link end, Ne[2i] on r_i^-, Ne[2i+1] on
+    r_i^+ (the terms of wall_forces' Nw, end by end)."""
+    h = par[HALF]
+    kw = par[K_WALL]
+    n = r.shape[0]
+    for i in range(n):
+        for e in range(2):
+            sgn = 2.0 * e - 1.0
+            px = r[i, 0] + sgn * h * t[i, 0]
+            py = r[i, 1] + sgn * h * t[i, 1]
+            pz = r[i, 2] + sgn * h * t[i, 2]
+            d, _, _ = _wall_point(px, py, pz, par, is_guided(i, sgn, n, par))
+            Ne[2 * i + e] = kw * d if d > 0.0 else 0.0
+
+
+@njit(cache=True)
+def point_frames(r, t, h, pf):
+    """Radial, azimuthal and axial unit vectors at every link end point (2N, 3, 3), the ends
+    ordered as in end_normal_forces (x axis for a point on the cylinder axis)."""
+    for i in range(r.shape[0]):
+        for e in range(2):
+            sgn = 2.0 * e - 1.0
+            m = 2 * i + e
+            px = r[i, 0] + sgn * h * t[i, 0]
+            py = r[i, 1] + sgn * h * t[i, 1]
+            rho = np.sqrt(px * px + py * py)
+            nx = px / rho if rho > 1e-14 else 1.0
+            ny = py / rho if rho > 1e-14 else 0.0
+            pf[m, 0, 0] = nx
+            pf[m, 0, 1] = ny
+            pf[m, 0, 2] = 0.0
+            pf[m, 1, 0] = -ny
+            pf[m, 1, 1] = nx
+            pf[m, 1, 2] = 0.0
+            pf[m, 2, 0] = 0.0
+            pf[m, 2, 1] = 0.0
+            pf[m, 2, 2] = 1.0
+
+
+@njit(cache=True)
+def end_offset(r, t, anchor, pf, h, m):
+    """Offset of link end m (link m // 2, lower end if m is even) from its stick anchor,
+    along the azimuthal and axial directions of pf[m]."""
+    i = m // 2
+    sgn = 2.0 * (m % 2) - 1.0
+    dx = r[i, 0] + sgn * h * t[i, 0] - anchor[m, 0]
+    dy = r[i, 1] + sgn * h * t[i, 1] - anchor[m, 1]
+    dz = r[i, 2] + sgn * h * t[i, 2] - anchor[m, 2]
+    return (pf[m, 1, 0] * dx + pf[m, 1, 1] * dy + pf[m, 1, 2] * dz,
+            pf[m, 2, 0] * dx + pf[m, 2, 1] * dy + pf[m, 2, 2] * dz)
+
+
+@njit(cache=True)
+def end_friction_loads(r, t, anchor, pf, h, fmax, kt, F, M, Ff, stuck):
+    """Friction of the link ends on the wall (fmax[m] > 0) from their stick springs: the end's
+    tangential offset d from its anchor gives -kt d, capped at fmax[m] (the Moreau envelope
+    of fmax |d|, as friction_term at the centre). The force acts at the end point: it is
+    added to F[i], its torque s h t_i x f about the centre to M[i], the net friction of the
+    link to Ff[i] (overwritten); stuck[i] = 1 if every end of the link on the wall is within
+    its stick zone. Returns the envelope's energy."""
+    n = r.shape[0]
+    e = 0.0
+    for i in range(n):
+        Ff[i, 0] = 0.0
+        Ff[i, 1] = 0.0
+        Ff[i, 2] = 0.0
+        stuck[i] = 0.0
+    for m in range(2 * n):
+        if fmax[m] <= 0.0:
+            continue
+        i = m // 2
+        sgn = 2.0 * (m % 2) - 1.0
+        d1, d2 = end_offset(r, t, anchor, pf, h, m)
+        nd = np.sqrt(d1 * d1 + d2 * d2)
+        if kt * nd <= fmax[m]:
+            c = kt
+            e += 0.5 * kt * nd * nd
+            if stuck[i] >= 0.0:
+                stuck[i] = 1.0
+        else:
+            c = fmax[m] / nd
+            e += fmax[m] * nd - 0.5 * fmax[m] * fmax[m] / kt
+            stuck[i] = -1.0
+        fx = -c * (d1 * pf[m, 1, 0] + d2 * pf[m, 2, 0])
+        fy = -c * (d1 * pf[m, 1, 1] + d2 * pf[m, 2, 1])
+        fz = -c * (d1 * pf[m, 1, 2] + d2 * pf[m, 2, 2])
+        F[i, 0] += fx
+        F[i, 1] += fy
+        F[i, 2] += fz
+        Ff[i, 0] += fx
+        Ff[i, 1] += fy
+        Ff[i, 2] += fz
+        a = sgn * h
+        M[i, 0] += a * (t[i, 1] * fz - t[i, 2] * fy)
+        M[i, 1] += a * (t[i, 2] * fx - t[i, 0] * fz)
+        M[i, 2] += a * (t[i, 0] * fy - t[i, 1] * fx)
+    for i in range(n):
+        if stuck[i] < 0.0:
+            stuck[i] = 0.0
+    return e
+
+
+@njit(cache=True)
+def end_friction_bounds(r, t, par, Ne, fmax):
+    """Coulomb's bound min(k_fr N, cap) of every link end (2N,), N its own wall force."""
+    end_normal_forces(r, t, par, Ne)
+    kfr = par[K_FR]
+    cap = par[F_CAP]
+    for m in range(Ne.shape[0]):
+        f = kfr * Ne[m]
+        fmax[m] = cap if (cap > 0.0 and f > cap) else f
+
+
+@njit(cache=True)
+def update_end_anchors(r, t, anchor, pf, h, fmax, kt):
+    """update_anchors for friction at the link ends: an end in slip drags its anchor along so
+    that kt |d| = fmax; an end off the wall has its anchor at the end point."""
+    for m in range(anchor.shape[0]):
+        i = m // 2
+        s = 2.0 * (m % 2) - 1.0
+        if fmax[m] <= 0.0:
+            for c in range(3):
+                anchor[m, c] = r[i, c] + s * h * t[i, c]
+            continue
+        d1, d2 = end_offset(r, t, anchor, pf, h, m)
+        nd = np.sqrt(d1 * d1 + d2 * d2)
+        lim = fmax[m] / kt
+        if nd > lim:
+            f = 1.0 - lim / nd
+            for c in range(3):
+                anchor[m, c] += f * (d1 * pf[m, 1, c] + d2 * pf[m, 2, c])
+
+
+@njit(cache=True)
+def explicit_steps_ends(r, t, par, dt, nsteps, kt, anchor, Ne, fmax, pf, Fm, Fp, F, M, Nw, Ff, stuck):
+    """explicit_steps with the friction at the link ends (Scene.friction_at = "ends"): each end
+    on the wall is held by its stick spring k_t, capped at its own Coulomb bound, as in the
+    implicit solver (end_friction_loads), and its anchor follows a slip after every step."""
+    h = par[HALF]
+    n_last = r.shape[0] - 1
+    for n in range(nsteps):
+        conservative_loads(r, t, par, Fm, Fp, F, M, Nw)
+        end_friction_bounds(r, t, par, Ne, fmax)
+        point_frames(r, t, h, pf)
+        end_friction_loads(r, t, anchor, pf, h, fmax, kt, F, M, Ff, stuck)
+        euler_update(r, t, F, M, dt, par)
+        update_end_anchors(r, t, anchor, pf, h, fmax, kt)
+        if not np.isfinite(r[0, 0] + r[n_last, 2] + t[n_last // 2, 0] + F[n_last // 2, 1]):
+            return n + 1, STOP_NONFINITE
+        if n % ESCAPE_CHECK_EVERY == 0 and escaped(r, t, par):
+            return n + 1, STOP_ESCAPED
+    return nsteps, STEPS_DONE

@@ -58,9 +58,10 @@ class RunState:
     snapshot_times: list = field(default_factory=list)
     snapshot_r: list = field(default_factory=list)
     snapshot_t: list = field(default_factory=list)
+    snapshot_anchor: list = field(default_factory=list)  # the stick anchors at each snapshot (or None)
     stage_converged: list = field(default_factory=list)
     work: dict = field(default_factory=dict)  # solver counters (Newton iterations, rejected steps, ...)
-    anchor: np.ndarray | None = None  # implicit solver: stick anchors of the links on the wall
+    anchor: np.ndarray | None = None  # stick anchors: per link centre, or per link end (2N, friction_at "ends")
 
     def take_snapshot(self, limit: int | None = None, scene_name: str = "") -> None:
         if limit is not None and len(self.snapshot_times) >= limit:
@@ -71,6 +72,7 @@ class RunState:
         self.snapshot_times.append(self.time)
         self.snapshot_r.append(self.r.copy())
         self.snapshot_t.append(self.t.copy())
+        self.snapshot_anchor.append(None if self.anchor is None else self.anchor.copy())
 
     def count(self, key: str, n: int = 1) -> None:
         self.work[key] = self.work.get(key, 0) + n
@@ -195,7 +197,8 @@ def relax(scene: Scene, st: RunState, stepper: Stepper, *, t_end: float | None =
         code = stepper.advance(st, t_stop)
         check_state(scene, st.r, st.t, st.steps, st.time, stepper.step_hint)
         st.escaped = st.escaped or code == K.STOP_ESCAPED
-        evaluate(par, st.r, st.t, ws)
+        ends = st.anchor if scene.friction_at == "ends" and st.anchor is not None else None
+        evaluate(par, st.r, st.t, ws, ends, scene.k_t)
         st.eps_F, st.eps_M = normalised_residuals(scene, st.t, ws)
         bar.update(st)
         if st.escaped and not follow_escape:

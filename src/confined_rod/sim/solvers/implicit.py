@@ -49,7 +49,7 @@ import numpy as np
 from ...errors import DivergenceError
 from ...limits import roundoff_force
 from ..model import kernels as K
-from ..model.forces import Workspace, evaluate
+from ..model.forces import Workspace, end_points, evaluate
 from ..scenes import Scene
 from . import implicit_kernels as IK
 from .base import RunState, run_protocol
@@ -155,7 +155,12 @@ class ImplicitStepper:
         self.p_keep, self.rhs = np.zeros(IK.NDOF * n), np.zeros(IK.NDOF * n)
         self.gm = np.zeros((n, IK.NDOF))  # the gradient of the active-set model
         self.nu, self.nu1 = np.ones(n), np.ones(n)
-        self.fmax = np.zeros(n)
+        # friction at the link centres (one bound, anchor and frame per link) or at the link ends
+        # (Scene.friction_at = "ends": per end, 2n, ordered as kernels.end_normal_forces)
+        self.ends = scene.friction_at == "ends"
+        self.fmax = np.zeros(2 * n if self.ends else n)
+        self.Ne = np.zeros(2 * n)
+        self.pf = np.zeros((2 * n, 3, 3))
         self.fd_step = np.array([FD_STEP * scene.R] * 3 + [FD_STEP] * 2)
         self.kt = scene.k_t  # stiffness of the stick spring (EI/R^3 per link)
         self.prev_dr, self.prev_dt_vec = z3(), z3()  # the last accepted step (predictor)
@@ -166,9 +171,20 @@ class ImplicitStepper:
 
     # -- one backward-Euler step ------------------------------------------------
     def _loads(self, r, t) -> None:
-        """Conservative loads at (r, t) into ws, their energy into self.E."""
+        """Conservative loads at (r, t) into ws, their energy into self.E; with friction at the
+        link ends, the ends' stick-spring friction (force and torque) and its envelope too."""
         ws = self.ws
         self.E = K.conservative_loads(r, t, self.par, ws.Fm, ws.Fp, ws.F, ws.M, ws.Nw)[0]
+        if self.ends and self.use_friction:
+            self.E += K.end_friction_loads(r, t, self.anchor, self.pf, self.h, self.fmax, self.kt, ws.F, ws.M,
+                                           ws.Ff, ws.stuck)
+
+    def _centre_friction(self, r, g, hessian: bool) -> float:
+        """The centre friction's envelope (friction_term) into g (or its Hessian into ab); 0
+        with friction at the ends, which _loads carries."""
+        if not self.use_friction or self.ends:
+            return 0.0
+        return IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, self.ab, hessian)
 
     def _smooth(self, r, t, nu, g):
         """Phi_s and its gradient at (r, t); leaves the loads at (r, t) in ws and E in self.E."""
@@ -184,8 +200,10 @@ class ImplicitStepper:
         IK.local_frames(self.rn, self.frame)
         self.fmax[:] = 0.0
         if st.anchor is None:
-            st.anchor = st.r.copy()
+            st.anchor = end_points(st.r, st.t, self.h) if self.ends else st.r.copy()
         self.anchor = st.anchor
+        if self.ends:
+            K.point_frames(self.rn, self.tn, self.h, self.pf)
         # the mirror symmetry y -> -y of a planar state is kept exactly, as in the
         # explicit scheme (its forces have no y component); finite-difference
         # noise in the Hessian would otherwise leak out of the plane
@@ -194,17 +212,18 @@ class ImplicitStepper:
             self.fmax[:] = self._bound(self.rn, self.tn)
 
     def _bound(self, r: np.ndarray, t: np.ndarray) -> np.ndarray:
-        """Coulomb's bound f_max = min(k_fr N, cap) of every link at (r, t) (new array)."""
+        """Coulomb's bound f_max = min(k_fr N, cap) of every link (or link end) at (r, t) (new array)."""
+        if self.ends:
+            out = np.zeros(2 * self.n)
+            K.end_friction_bounds(r, t, self.par, self.Ne, out)
+            return out
         evaluate(self.par, r, t, self.ws)
         f = self.scene.k_fr * self.ws.Nw
         return np.minimum(f, self.cap) if self.cap > 0.0 else f
 
     def _phi(self, r, t, nu, g) -> float:
         """Phi and its gradient (into g) at (r, t)."""
-        phi = self._smooth(r, t, nu, g)
-        if self.use_friction:
-            phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, self.ab, False)
-        return phi
+        return self._smooth(r, t, nu, g) + self._centre_friction(r, g, False)
 
     def _newton(self, r: np.ndarray, t: np.ndarray, st: RunState) -> None:
         """Solve the step to a residual below the run's tolerance or, while the
@@ -230,8 +249,7 @@ class ImplicitStepper:
                 self._loads(r, t)
             phi = self.E + IK.step_gradient(r, t, self.nu1, self.rn, self.tn, self.frame, self.e1, self.e2, self.cr,
                                             self.ct, ws.F, ws.M, g)
-            if self.use_friction:
-                phi += IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, g, ab, False)
+            phi += self._centre_friction(r, g, False)
             gF, gM, dr, dtv = IK.newton_residuals(g, r, self.rn, t, self.tn)
             if gF <= max(self.gtol_F, NEWTON_ETA * self.cr * dr) and gM <= max(self.gtol_M, NEWTON_ETA * self.ct * dtv):
                 return
@@ -264,7 +282,13 @@ class ImplicitStepper:
         new direction only if it descends."""
         gm = self.gm
         gm[:] = g
-        n = IK.stick_model(r, self.anchor, self.frame, self.fmax, self.kt, self.p, gm, self.ab) if self.use_friction else 0
+        if not self.use_friction:
+            n = 0
+        elif self.ends:
+            n = IK.end_stick_model(r, t, self.anchor, self.pf, self.frame, self.e1, self.e2, self.h, self.fmax,
+                                   self.kt, self.p, gm, self.ab)
+        else:
+            n = IK.stick_model(r, self.anchor, self.frame, self.fmax, self.kt, self.p, gm, self.ab)
         n += IK.contact_model(r, t, self.frame, self.e1, self.e2, self.par, self.p, gm, self.ab)
         if n == 0:
             return p
@@ -290,7 +314,10 @@ class ImplicitStepper:
         else:
             IK.smooth_hessian(r, t, self.tn, self.frame, self.e1, self.e2, self.cr, self.ct, self.par, ab)
         IK.contact_hessian(r, t, self.frame, self.e1, self.e2, self.par, ab)
-        if self.use_friction:
+        if self.use_friction and self.ends:
+            IK.end_friction_hessian(r, t, self.anchor, self.pf, self.frame, self.e1, self.e2, self.h, self.fmax,
+                                    self.kt, ab)
+        elif self.use_friction:
             IK.friction_term(r, self.anchor, self.frame, self.fmax, self.kt, self.g_fd, ab, True)
 
     def _solve(self, ab: np.ndarray, g: np.ndarray, st: RunState) -> np.ndarray:
@@ -464,7 +491,10 @@ class ImplicitStepper:
             self.prev_dt = dt
             st.r[:] = r
             st.t[:] = t
-            IK.update_anchors(st.r, self.anchor, self.frame, self.fmax, self.kt)
+            if self.ends:
+                K.update_end_anchors(st.r, st.t, self.anchor, self.pf, self.h, self.fmax, self.kt)
+            else:
+                IK.update_anchors(st.r, self.anchor, self.frame, self.fmax, self.kt)
             st.time += dt
             st.steps += 1
             if dt == self.dt:

@@ -674,3 +674,81 @@ def contact_model(r, t, frame, e1, e2, par, p, g, ab):
                 g[i, b] += J[0, b] * gp[0] + J[1, b] * gp[1]
             count += 1
     return count
+
+
+@njit(cache=True)
+def end_friction_hessian(r, t, anchor, pf, frame, e1, e2, h, fmax, kt, ab):
+    """Hessian of K.end_friction_loads' envelope in the step coordinates, added to ab: per end
+    on the wall J^T hp J (_add_end_hessian) with hp = kt P (stick) or (fmax/|d|)(P - w w^T)
+    (slip), P the projector on the end's tangent plane (pf[m] rows 1, 2), w the slip
+    direction, and the curvature of the end point's rotation."""
+    J = np.empty((3, NDOF))
+    hp = np.zeros((3, 3))
+    gp = np.zeros(3)
+    for m in range(2 * r.shape[0]):
+        if fmax[m] <= 0.0:
+            continue
+        i = m // 2
+        s = 2.0 * (m % 2) - 1.0
+        d1, d2 = K.end_offset(r, t, anchor, pf, h, m)
+        nd = np.sqrt(d1 * d1 + d2 * d2)
+        stick = kt * nd <= fmax[m]
+        c = kt if stick else fmax[m] / nd
+        for a in range(3):
+            gp[a] = c * (d1 * pf[m, 1, a] + d2 * pf[m, 2, a])
+            for b in range(3):
+                hp[a, b] = c * (pf[m, 1, a] * pf[m, 1, b] + pf[m, 2, a] * pf[m, 2, b])
+        if not stick:
+            u1 = d1 / nd
+            u2 = d2 / nd
+            for a in range(3):
+                wa = u1 * pf[m, 1, a] + u2 * pf[m, 2, a]
+                for b in range(3):
+                    hp[a, b] -= c * wa * (u1 * pf[m, 1, b] + u2 * pf[m, 2, b])
+        _add_end_hessian(i, s, h, NDOF * i, frame, e1, e2, hp, gp, t, ab, J)
+
+
+@njit(cache=True)
+def end_stick_model(r, t, anchor, pf, frame, e1, e2, h, fmax, kt, p, g, ab):
+    """stick_model for friction at the link ends: an end in slip that the step p carries back
+    into its stick zone (new offset along the old slip direction u below f_max/k_t) is modelled
+    on the stick branch, kt |d|^2/2, instead of the slip branch: the difference of the two
+    branches' point gradients and Hessians goes through the end's Jacobian into g (a copy of
+    the gradient) and ab. Returns how many ends."""
+    J = np.empty((3, NDOF))
+    hp = np.zeros((3, 3))
+    gp = np.zeros(3)
+    count = 0
+    for m in range(2 * r.shape[0]):
+        if fmax[m] <= 0.0:
+            continue
+        d1, d2 = K.end_offset(r, t, anchor, pf, h, m)
+        nd = np.sqrt(d1 * d1 + d2 * d2)
+        lim = fmax[m] / kt
+        if nd <= lim:
+            continue
+        i = m // 2
+        s = 2.0 * (m % 2) - 1.0
+        q = NDOF * i
+        _end_jacobian(i, s, h, frame, e1, e2, J)
+        u1 = d1 / nd
+        u2 = d2 / nd
+        step = 0.0  # the end's move along the slip direction in the step
+        for a in range(3):
+            ua = u1 * pf[m, 1, a] + u2 * pf[m, 2, a]
+            for b in range(NDOF):
+                step += ua * J[a, b] * p[q + b]
+        if nd + step >= lim:
+            continue
+        c = fmax[m] / nd
+        for a in range(3):
+            wa = u1 * pf[m, 1, a] + u2 * pf[m, 2, a]
+            gp[a] = (kt - c) * (d1 * pf[m, 1, a] + d2 * pf[m, 2, a])
+            for b in range(3):
+                wb = u1 * pf[m, 1, b] + u2 * pf[m, 2, b]
+                hp[a, b] = (kt - c) * (pf[m, 1, a] * pf[m, 1, b] + pf[m, 2, a] * pf[m, 2, b]) + c * wa * wb
+        _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
+        for b in range(NDOF):
+            g[i, b] += J[0, b] * gp[0] + J[1, b] * gp[1] + J[2, b] * gp[2]
+        count += 1
+    return count
