@@ -404,27 +404,39 @@ def end_normal_forces(r, t, par, Ne):
 
 
 @njit(cache=True)
+def cylinder_frames(p, frame):
+    """Radial, azimuthal and axial unit vectors (rows of frame[i], shape (n, 3, 3)) at the points
+    p (n, 3) (x axis as radial direction for a point on the cylinder axis)."""
+    for i in range(p.shape[0]):
+        rho = np.sqrt(p[i, 0] ** 2 + p[i, 1] ** 2)
+        if rho > 1e-14:
+            nx = p[i, 0] / rho
+            ny = p[i, 1] / rho
+        else:
+            nx = 1.0
+            ny = 0.0
+        frame[i, 0, 0] = nx
+        frame[i, 0, 1] = ny
+        frame[i, 0, 2] = 0.0
+        frame[i, 1, 0] = -ny
+        frame[i, 1, 1] = nx
+        frame[i, 1, 2] = 0.0
+        frame[i, 2, 0] = 0.0
+        frame[i, 2, 1] = 0.0
+        frame[i, 2, 2] = 1.0
+
+
+@njit(cache=True)
 def point_frames(r, t, h, pf):
-    """Radial, azimuthal and axial unit vectors at every link end point (2N, 3, 3), the ends
-    ordered as in end_normal_forces (x axis for a point on the cylinder axis)."""
+    """cylinder_frames at every link end point (2N, 3, 3), the ends ordered as in
+    end_normal_forces."""
+    p = np.empty((2 * r.shape[0], 3))
     for i in range(r.shape[0]):
         for e in range(2):
             sgn = 2.0 * e - 1.0
-            m = 2 * i + e
-            px = r[i, 0] + sgn * h * t[i, 0]
-            py = r[i, 1] + sgn * h * t[i, 1]
-            rho = np.sqrt(px * px + py * py)
-            nx = px / rho if rho > 1e-14 else 1.0
-            ny = py / rho if rho > 1e-14 else 0.0
-            pf[m, 0, 0] = nx
-            pf[m, 0, 1] = ny
-            pf[m, 0, 2] = 0.0
-            pf[m, 1, 0] = -ny
-            pf[m, 1, 1] = nx
-            pf[m, 1, 2] = 0.0
-            pf[m, 2, 0] = 0.0
-            pf[m, 2, 1] = 0.0
-            pf[m, 2, 2] = 1.0
+            for c in range(3):
+                p[2 * i + e, c] = r[i, c] + sgn * h * t[i, c]
+    cylinder_frames(p, pf)
 
 
 @njit(cache=True)

@@ -38,23 +38,7 @@ BAND = 2 * NDOF - 1  # half-bandwidth of the block-tridiagonal Hessian
 def local_frames(r, frame):
     """Radial, azimuthal and axial unit vectors at each link centre (x axis for a
     centre on the cylinder axis)."""
-    for i in range(r.shape[0]):
-        rho = np.sqrt(r[i, 0] ** 2 + r[i, 1] ** 2)
-        if rho > 1e-14:
-            nx = r[i, 0] / rho
-            ny = r[i, 1] / rho
-        else:
-            nx = 1.0
-            ny = 0.0
-        frame[i, 0, 0] = nx
-        frame[i, 0, 1] = ny
-        frame[i, 0, 2] = 0.0
-        frame[i, 1, 0] = -ny
-        frame[i, 1, 1] = nx
-        frame[i, 1, 2] = 0.0
-        frame[i, 2, 0] = 0.0
-        frame[i, 2, 1] = 0.0
-        frame[i, 2, 2] = 1.0
+    K.cylinder_frames(r, frame)
 
 
 @njit(cache=True)
