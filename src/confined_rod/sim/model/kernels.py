@@ -514,6 +514,18 @@ def end_friction_bounds(r, t, par, Ne, fmax):
 
 
 @njit(cache=True)
+def drag_anchor(anchor, k, d1, d2, fr, lim):
+    """A stick anchor k whose point is offset (d1, d2) from it along the azimuthal and axial rows
+    of the frame fr (3, 3): in slip (|d| > lim = f_max/k_t) it is dragged along d so that |d| =
+    lim; in the stick zone it stays."""
+    nd = np.sqrt(d1 * d1 + d2 * d2)
+    if nd > lim:
+        f = 1.0 - lim / nd
+        for c in range(3):
+            anchor[k, c] += f * (d1 * fr[1, c] + d2 * fr[2, c])
+
+
+@njit(cache=True)
 def update_end_anchors(r, t, anchor, pf, h, fmax, kt):
     """update_anchors for friction at the link ends: an end in slip drags its anchor along so
     that kt |d| = fmax; an end off the wall has its anchor at the end point."""
@@ -525,12 +537,7 @@ def update_end_anchors(r, t, anchor, pf, h, fmax, kt):
                 anchor[m, c] = r[i, c] + s * h * t[i, c]
             continue
         d1, d2 = end_offset(r, t, anchor, pf, h, m)
-        nd = np.sqrt(d1 * d1 + d2 * d2)
-        lim = fmax[m] / kt
-        if nd > lim:
-            f = 1.0 - lim / nd
-            for c in range(3):
-                anchor[m, c] += f * (d1 * pf[m, 1, c] + d2 * pf[m, 2, c])
+        drag_anchor(anchor, m, d1, d2, pf[m], fmax[m] / kt)
 
 
 @njit(cache=True)

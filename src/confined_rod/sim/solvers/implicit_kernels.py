@@ -559,12 +559,7 @@ def update_anchors(r, anchor, frame, fmax, kt):
             anchor[i, 2] = r[i, 2]
             continue
         d1, d2 = tangential_offset(r, anchor, frame, i)
-        nd = np.sqrt(d1 * d1 + d2 * d2)
-        lim = fmax[i] / kt
-        if nd > lim:
-            s = 1.0 - lim / nd
-            for c in range(3):
-                anchor[i, c] += s * (d1 * frame[i, 1, c] + d2 * frame[i, 2, c])
+        K.drag_anchor(anchor, i, d1, d2, frame[i], fmax[i] / kt)
 
 
 @njit(cache=True)
