@@ -39,7 +39,7 @@ def test_every_scene_parameter_and_kind_option_is_on_the_page():
 def test_resolved_defaults_say_what_they_follow():
     text = scene_defaults(Scene)
     assert text["pore_length"] == "follows L"
-    assert text["k_t"] == "follows k_w: 0.1 k_w (100)"
+    assert text["k_t"] == "follows k_ph/l0: 1 k_ph/l0 (2000); with friction_at: centre 0.1 k_w (100)"
     assert text["l0"] == "0.5; follows R" and text["k_ph"] == "1000; follows R, EI"
     assert text["t_max"].endswith("follows R, EI, the solver")
     assert text["load"] == "0.25" and text["body_force"] == "[0, 0, 0]" and text["floor"] == "true"

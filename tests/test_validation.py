@@ -88,17 +88,25 @@ def test_cli_runs_a_scene(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["short.nc", "short.yaml"]
 
 
-def test_the_stick_stiffness_follows_k_w_unless_given():
-    """k_t defaults to k_w/10, also when k_w is given or replaced; a given k_t stays; k_t <= 0 is
-    refused naming the key."""
+def test_the_stick_stiffness_follows_its_law_unless_given():
+    """k_t defaults to the bond constant k_ph/l0 with friction at the link ends and to k_w/10 at
+    the centre, also when those are given or replaced; a given k_t stays; k_t <= 0 is refused
+    naming the key."""
     import dataclasses
 
     from confined_rod import Scene
     from confined_rod.errors import SceneError
 
-    assert Scene().k_t == pytest.approx(0.1 * Scene().k_w)
-    assert Scene(k_w=500.0).k_t == pytest.approx(50.0)
-    assert dataclasses.replace(Scene(), k_w=200.0).k_t == pytest.approx(20.0)
-    assert dataclasses.replace(Scene(k_t=3.0), k_w=200.0).k_t == 3.0
+    assert Scene().friction_at == "ends"
+    assert Scene().k_t == pytest.approx(Scene().k_ph / Scene().l0)
+    assert Scene(k_ph=1.0e4, l0=0.25).k_t == pytest.approx(4.0e4)
+    assert dataclasses.replace(Scene(), l0=1.0).k_t == pytest.approx(Scene().k_ph)
+    assert dataclasses.replace(Scene(k_t=3.0), l0=1.0).k_t == 3.0
+    centre = Scene(friction_at="centre")
+    assert centre.k_t == pytest.approx(0.1 * centre.k_w)
+    assert Scene(friction_at="centre", k_w=500.0).k_t == pytest.approx(50.0)
+    assert dataclasses.replace(centre, k_w=200.0).k_t == pytest.approx(20.0)
+    assert dataclasses.replace(Scene(), friction_at="centre").k_t == pytest.approx(0.1 * centre.k_w)
+    assert dataclasses.replace(Scene(friction_at="centre", k_t=3.0), k_w=200.0).k_t == 3.0
     with pytest.raises(SceneError, match="'k_t': 0"):
         Scene(k_t=0)

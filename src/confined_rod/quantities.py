@@ -103,8 +103,9 @@ SCENE_PARAMETERS = [
     _param("k_ph", "k_{ph}", "physical stretching stiffness of the rod (bond constant k = k_ph/l0)", "EI R-2",
            _POS_OR_DEFAULT),
     _param("k_w", "k_w", "wall penalty constant per link end", "EI R-3", _POS_OR_DEFAULT),
-    _param("k_t", "k_t", "implicit solver: stick stiffness of the wall friction per link (a stuck link is held by "
-           "a tangential spring to its anchor, rigid stick as k_t -> inf; default k_w/10)", "EI R-3", _POS_OR_DEFAULT),
+    _param("k_t", "k_t", "stick stiffness of the wall friction (a stuck link or link end is held by a tangential "
+           "spring to its anchor, rigid stick as k_t -> inf; default k_w/10 with friction at the centre, k_ph/l0 at "
+           "the ends)", "EI R-3", _POS_OR_DEFAULT),
     _param("solver", "", "time integrator: implicit (fast default) or explicit (the paper's, reference)", "1",
            {"enum": ["implicit", "explicit"]}),
     _param("dx_max", "dx_{max}", "implicit solver: largest displacement of a link end per step", "R",
@@ -118,8 +119,8 @@ SCENE_PARAMETERS = [
            "0: none", "1", {"type": "integer", "minimum": 0}),
     _param("rotational_drag", "", "rotational drag: paper (beta_ph l0 R^2) or rigid_link (beta_ph l0^3/12)", "1",
            {"enum": ["paper", "rigid_link"]}),
-    _param("friction_at", "", "where a wall contact's friction acts: centre (the link centre, with the link's summed "
-           "normal force) or ends (each link end on the wall, with its own normal force and stick anchor)", "1",
+    _param("friction_at", "", "where a wall contact's friction acts: ends (each link end on the wall, with its own normal "
+           "force and stick anchor; the default) or centre (the link centre, with the link's summed normal force)", "1",
            {"enum": ["centre", "ends"]}),
     _param("bending_constant", "",
            "joint bending constant: corrected (C = EI/l0) or paper (the printed C = EI/l0^2, i.e. EI R/l0^2)", "1",

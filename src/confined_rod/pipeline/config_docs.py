@@ -193,7 +193,7 @@ def _first_paragraph(doc: str | None) -> str:
 def scene_defaults(scene_cls: Callable[..., Any]) -> dict[str, str]:
     """Each scene parameter's default as text, from ``scene_cls`` (``confined_rod.Scene``): the
     value, or for a default resolved from other fields what it follows ('follows L: = L',
-    'follows k_w: 0.1 k_w', '0.5, follows R')."""
+    'follows k_ph/l0: 1 k_ph/l0', '0.5, follows R')."""
     base = scene_cls()
     values = base.to_dict()
     probes = {p: scene_cls(**{p: v}) for p, v in _PROBES.items()}
@@ -202,6 +202,16 @@ def scene_defaults(scene_cls: Callable[..., Any]) -> dict[str, str]:
         v = values[q.name]
         if base.given(q.name):
             out[q.name] = _value(v)
+            continue
+        if q.name == "k_t":  # follows the bond constant k_ph/l0 at the ends, k_w at the centre
+            centre = scene_cls(friction_at="centre")
+            a, b = v * values["l0"] / values["k_ph"], centre.k_t / centre.k_w
+            if scene_cls(k_ph=2 * values["k_ph"], l0=values["l0"] / 2).k_t != 4 * v or scene_cls(
+                    friction_at="centre", k_w=2 * centre.k_w).k_t != 2 * centre.k_t:
+                raise ValueError("scene parameter 'k_t': its default no longer follows k_ph/l0 (ends) and k_w "
+                                 "(centre); extend config_docs.scene_defaults")
+            out[q.name] = (f"follows k_ph/l0: {_num(a)} k_ph/l0 ({_value(v)}); with friction_at: centre "
+                           f"{_num(b)} k_w ({_value(centre.k_t)})")
             continue
         follows = [p for p, s in probes.items() if p != q.name and s.to_dict()[q.name] != v]
         fields = [p for p in follows if p not in ("R", "EI", "solver")]

@@ -33,7 +33,11 @@ from .model.parameters import DiscreteConstants, discrete_constants
 DEFAULT_L0 = 0.5  # R
 DEFAULT_K_PH = 1000.0  # EI/R^2: axial strain load/k_ph = 2.5e-4 at load 0.25
 DEFAULT_K_W = 1000.0  # EI/R^3 per link end: penetration <= N/k_w
-DEFAULT_K_T = 0.1  # x k_w: stick stiffness of the implicit solver's friction (docs/model.md, "implicit solver")
+# stick stiffness of the friction springs (docs/model.md, "Friction"): with friction at the link
+# centre, x k_w (F(L) moves 0.2 % from 0.1 k_w to 10 k_w); with friction at the link ends, x the bond
+# constant k_ph/l0: the ends' F(L) reaches its rigid-stick limit only for k_t l0/k_ph >~ 0.5 (-8 % at 0.05)
+DEFAULT_K_T = 0.1
+DEFAULT_K_T_ENDS = 1.0
 # EI/R^2, friction force per link: 0.1 EI/R^3 per length at the publication l0 = 0.5 R, 8x the bulk
 # k_fr K l0 at load 0.25, so it acts on concentrated contacts only (docs/model.md, "friction cap")
 DEFAULT_FRICTION_CAP = 0.05
@@ -100,10 +104,11 @@ class Scene:
                    there and its ``saddle`` flag says so)
     Numerics:
       l0, k_ph, k_w  link length, stretching stiffness (k = k_ph/l0), wall penalty
-      k_t           implicit: stick stiffness of the wall friction per link: a stuck link is
-                    held by a tangential spring k_t to its anchor and slips once the spring
-                    force reaches k_fr N (default k_w/10; rigid stick as k_t -> inf, which
-                    the explicit scheme has)
+      k_t           stick stiffness of the wall friction: a stuck link (centre) or link end
+                    (ends) is held by a tangential spring k_t to its anchor and slips once the
+                    spring force reaches its Coulomb bound; rigid stick is k_t -> inf, which the
+                    explicit scheme has at the centre. Default k_w/10 (centre) or k_ph/l0, the
+                    bond constant (ends: F(L) is at its rigid-stick limit from k_t ~ 0.5 k_ph/l0)
       solver        'implicit' (backward Euler with Newton steps, the fast default) or
                     'explicit' (the paper's forward Euler, the reference)
       dx_max        implicit: largest displacement of a link end per step (R); the
@@ -116,12 +121,12 @@ class Scene:
                     settles slowly, over ~5e5 at L = 320 R, and the implicit steps grow as it does)
       max_steps     cap on the number of steps, a work budget that is the same on every
                     machine (0 = none); reaching it ends the run as ``step_cap``
-      friction_at   where a contact's friction acts: 'centre' (default: at the link centre,
-                    with the normal force of both ends; a stuck link still turns freely about
-                    its centre, so an end that touches the wall can slide, and F(L) drifts
-                    with l0) or 'ends' (at each link end on the wall, where the wall force
-                    acts, with that end's own normal force and stick anchor; F(L) converges in
-                    l0 but moves with the stick stiffness k_t). docs/model.md, "Friction"
+      friction_at   where a contact's friction acts: 'ends' (default: at each link end on the
+                    wall, where the wall force acts, with that end's own normal force and stick
+                    anchor; F(L) converges in l0 at the default k_t) or 'centre' (at the link
+                    centre, with the normal force of both ends; a stuck link still turns freely
+                    about its centre, so an end that touches the wall can slide, and F(L) creeps
+                    up towards the ends' value as l0 -> 0). docs/model.md, "Friction"
       rotational_drag 'paper' (gamma_r = beta_ph l0 R^2) or 'rigid_link' (beta_ph l0^3/12)
       bending_constant 'corrected' (C = EI/l0, derived in docs/model.md) or 'paper' (the paper's
                     printed C = EI/l0^2 read in its units R = 1, i.e. C = EI R/l0^2: a rod of
@@ -161,7 +166,7 @@ class Scene:
     t_max: float | None = None
     max_steps: int = 0
     rotational_drag: str = "paper"
-    friction_at: str = "centre"
+    friction_at: str = "ends"
     bending_constant: str = "corrected"
     snapshot_interval: float = 0.0
     snapshot_growth: float = 1.0
@@ -180,7 +185,8 @@ class Scene:
         return tuple(f.name for f in dataclasses.fields(cls) if not f.name.startswith("_"))
 
     def given(self, key: str) -> bool:
-        """False if the value of ``key`` is a default resolved from R, EI, L or the solver."""
+        """False if the value of ``key`` is a default resolved from other fields (R, EI, L, the
+        solver; k_t from k_w or k_ph/l0)."""
         return not isinstance(getattr(self, key), _Default)
 
     # -- derived -----------------------------------------------------------
@@ -189,8 +195,9 @@ class Scene:
         return int(round(self.L / self.l0))
 
     def constants(self) -> DiscreteConstants:
+        ends = self.friction_at == "ends" and self.k_fr > 0.0  # stick springs at the link ends
         return discrete_constants(self.L, self.R, self.EI, self.l0, self.k_ph, self.k_w,
-                                  self.rotational_drag, self.bending_constant)
+                                  self.rotational_drag, self.bending_constant, self.k_t if ends else 0.0)
 
     def free_span(self) -> float:
         """Length of the rod above the pore entrance at the start, L - pore_length (0 if
@@ -375,7 +382,8 @@ class Scene:
 
 #: what a numerical default follows (show-defaults writes it as null with this note)
 DERIVED_FROM = {"l0": "R", "k_ph": "EI/R^2", "k_w": "EI/R^3", "friction_cap": "EI/R^2", "perturbation": "R",
-                "kick": "R", "t_max": "R^4/EI and the solver", "pore_length": "L", "dx_max": "R", "k_t": "k_w"}
+                "kick": "R", "t_max": "R^4/EI and the solver", "pore_length": "L", "dx_max": "R",
+                "k_t": "k_w (friction at the centre) or k_ph/l0 (at the ends)"}
 
 
 def _yaml_value(value: Any) -> str:
@@ -482,7 +490,8 @@ def _validate(s: Scene) -> None:
 
     for key, default in resolved.items():
         resolve(key, default)
-    resolve("k_t", DEFAULT_K_T * s.k_w)  # follows k_w, given or default
+    # follows k_w (centre) or the bond constant k_ph/l0 (ends), given or default
+    resolve("k_t", DEFAULT_K_T_ENDS * s.k_ph / s.l0 if s.friction_at == "ends" else DEFAULT_K_T * s.k_w)
     object.__setattr__(s, "_origin", origin)
     for key in ("L", "R", "EI", "load", "k_fr", "dt_factor", "tol", "snapshot_interval", "snapshot_growth",
                 "ramp_start"):

@@ -14,11 +14,12 @@ SCENE_NAME = "name"
 
 
 def same_except(figure: str, built: Mapping[str, Any], varied: tuple[str, ...], why: str) -> None:
-    """Raise ConfigError unless the scenes differ only in ``varied``."""
+    """Raise ConfigError unless the scenes differ only in ``varied``. A default that follows
+    other parameters (k_t follows l0 and k_ph) may differ where they do: they are compared."""
     ref_name, ref = next(iter(built.items()))
     for name, sc in built.items():
         for key in type(sc).field_names():
-            if key in varied or key == SCENE_NAME:
+            if key in varied or key == SCENE_NAME or not (sc.given(key) or ref.given(key)):
                 continue
             if getattr(sc, key) != getattr(ref, key):
                 raise ConfigError(f"figures.{figure}.scenes.{name}: {key} = {getattr(sc, key)!r} differs from "

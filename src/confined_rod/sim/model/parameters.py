@@ -33,7 +33,8 @@ class DiscreteConstants:
 
 
 def discrete_constants(L: float, R: float, EI: float, l0: float, k_ph: float, k_w: float,
-                       rotational_drag: str = "paper", bending_constant: str = "corrected") -> DiscreteConstants:
+                       rotational_drag: str = "paper", bending_constant: str = "corrected",
+                       k_t_ends: float = 0.0) -> DiscreteConstants:
     N = int(round(L / l0))
     C = EI / l0 if bending_constant == "corrected" else EI * R / l0**2
     k = k_ph / l0
@@ -46,9 +47,12 @@ def discrete_constants(L: float, R: float, EI: float, l0: float, k_ph: float, k_
     # straight rod pressed against the wall (docs/model.md, "time step"):
     #   translation row: (4 k + 2 k_w)/beta + k l0/sqrt(beta gamma_r)
     #   rotation row:    (k l0^2 + 4 C + k_w l0^2/2)/gamma_r + k l0/sqrt(beta gamma_r)
-    cross = k * l0 / math.sqrt(beta * gamma_r)
-    lam_t = (4.0 * k + 2.0 * k_w) / beta + cross
-    lam_r = (k * l0**2 + 4.0 * C + 0.5 * k_w * l0**2) / gamma_r + cross
+    # and, with friction at the link ends (k_t_ends > 0: a stick spring at each end, arm l0/2),
+    #   translation row: + 2 k_t/beta + (k_t l0/2)/sqrt(beta gamma_r)   (one end stuck: no cancelling)
+    #   rotation row:    + (k_t l0^2/2)/gamma_r + (k_t l0/2)/sqrt(beta gamma_r)
+    cross = (k * l0 + 0.5 * k_t_ends * l0) / math.sqrt(beta * gamma_r)
+    lam_t = (4.0 * k + 2.0 * k_w + 2.0 * k_t_ends) / beta + cross
+    lam_r = (k * l0**2 + 4.0 * C + 0.5 * k_w * l0**2 + 0.5 * k_t_ends * l0**2) / gamma_r + cross
     lam = max(lam_t, lam_r)
     return DiscreteConstants(N=N, C=C, k=k, k_support=k, beta=beta, gamma_r=gamma_r,
                              dt_stable=2.0 / lam)
