@@ -119,8 +119,9 @@ SCENE_PARAMETERS = [
            "0: none", "1", {"type": "integer", "minimum": 0}),
     _param("rotational_drag", "", "rotational drag: paper (beta_ph l0 R^2) or rigid_link (beta_ph l0^3/12)", "1",
            {"enum": ["paper", "rigid_link"]}),
-    _param("friction_at", "", "where a wall contact's friction acts: ends (each link end on the wall, with its own normal "
-           "force and stick anchor; the default) or centre (the link centre, with the link's summed normal force)", "1",
+    _param("friction_at", "", "where a wall contact's friction acts: ends (each link end on the wall, with its own "
+           "normal force and stick anchor; the default) or centre (the link centre, with the link's summed normal "
+           "force)", "1",
            {"enum": ["centre", "ends"]}),
     _param("bending_constant", "",
            "joint bending constant: corrected (C = EI/l0) or paper (the printed C = EI/l0^2, i.e. EI R/l0^2)", "1",

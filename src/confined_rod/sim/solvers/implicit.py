@@ -19,7 +19,8 @@ anchor does not move while |F_t| < f_max); they sit within f_max/k_t of their
 anchor, where the explicit scheme holds them rigidly.  The equilibrium
 conditions (|F_t| <= f_max on stuck links) are the same.
 
-Stick stiffness.  k_t (Scene.k_t, default k_w/10) sets how far a stuck link
+Stick stiffness.  k_t (Scene.k_t, default k_ph/l0 with friction at the link ends,
+k_w/10 at the centre) sets how far a stuck link
 may sit from its anchor, f_max/k_t (~6e-5 R at load 0.25; the equilibrium
 condition |F_t| <= f_max is the same for any k_t).  It also sets how far a
 Newton step carries a change of axial force into a stuck stretch: through a
