@@ -117,7 +117,8 @@ def main() -> None:
         c, e = out["models"]["centre"], out["models"]["ends"]
         out["centre_over_ends"] = {
             x: {"ratio_minus_1": c[x]["F_L"] / e[x]["F_L"] - 1.0,
-                "se": c[x]["F_L"] / e[x]["F_L"] * math.hypot(c[x]["F_L_se"] / c[x]["F_L"], e[x]["F_L_se"] / e[x]["F_L"])}
+                "se": c[x]["F_L"] / e[x]["F_L"]
+                * math.hypot(c[x]["F_L_se"] / c[x]["F_L"], e[x]["F_L_se"] / e[x]["F_L"])}
             for x in c if x in e}
     OUT.parent.mkdir(parents=True, exist_ok=True)
     tmp = OUT.with_suffix(".json.tmp")
