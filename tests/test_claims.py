@@ -470,7 +470,7 @@ def _protocols(variants, **per_variant):
 
 def test_torque_budget_claim_leaves_out_runs_not_at_equilibrium():
     ds = _protocols(["a", "b"], torque_closure=[1e-6, 0.2], torque_friction_ratio=[0.5, -0.5],
-                    torque_helix_ratio=[0.51, -0.5])
+                    torque_budget_residual=[0.01 / 1.5, 0.0])
     spec = {"figures": ["p"], "max_closure": 1e-4, "tol": 0.05}
     value, holds, _, _ = claims.MEASURES["torque_budget_closes"](claims.Evidence({"p": ds}), spec, "x")
     assert holds is False                                   # member b: the budget does not close

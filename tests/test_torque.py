@@ -85,6 +85,7 @@ def test_bulk_summary_of_the_constructed_helix():
     tau0 = torque.torque_scale(F, 1.0, EI)
     assert out["torque_friction_ratio"] == pytest.approx(np.median(-tau_profile(s[bulk]) / tau0), rel=1e-9)
     assert out["torque_helix_ratio"] == pytest.approx(out["torque_friction_ratio"], rel=1e-4)
+    assert out["torque_budget_residual"] < 1e-6
     assert out["K_ratio"] == pytest.approx(out["K_ratio_from_torque"], rel=1e-3)
     assert out["pitch_w0_ratio"] == pytest.approx(np.median(abs(W) / np.sqrt(F / 2)), rel=1e-9)
     assert torque.bulk_summary(ds, np.zeros(N, dtype=bool))["K_ratio"] == 0.0
@@ -106,3 +107,25 @@ def test_the_simulated_friction_closes_the_torque_budget():
     bulk = (a.regions.of_links(d["s_link"].values) == 1) & b.on_helix
     diff = np.abs(b.tau_friction[bulk] - b.tau_helix[bulk]) / (b.tau0[bulk] + np.abs(b.tau_friction[bulk]))
     assert np.median(diff) < 0.05
+
+
+def test_the_budget_residual_is_read_link_by_link():
+    """A defect inside the bulk (here the pitch rate of 30 % of its links off by 40 %, so that the
+    helix's torque there is wrong) moves the median of the helix's torque away from the
+    friction's, but the median of the per-link difference stays at the closed budget's: the
+    measure compares where the uniform helix holds, and a majority of defects would show."""
+    ds = constructed_helix()
+    s = ds["s_link"].values
+    bulk = (s > 10) & (s < 35)
+    defect = bulk & (s < 17.5)                         # 15 of the bulk's 50 links
+    w = ds["dphi_ds"].values.copy()
+    w[defect] *= 1.4
+    ds["dphi_ds"] = (("s_helix",), w)
+    out = torque.bulk_summary(ds, bulk)
+    b = torque.budget(ds)
+    per_link = np.abs(b.tau_friction - b.tau_helix) / (b.tau0 + np.abs(b.tau_friction))
+    assert per_link[defect].min() > 0.05                # the defect's links are far off
+    assert out["torque_budget_residual"] < 1e-6         # 35 of 50 links close the budget
+    w[bulk & (s < 25)] = 1.4 * W                        # a defect over 30 of the 50 links
+    ds["dphi_ds"] = (("s_helix",), w)
+    assert torque.bulk_summary(ds, bulk)["torque_budget_residual"] > 0.05

@@ -285,6 +285,8 @@ FIGURE_QUANTITIES = [
          "friction left in the rod, signed along the handedness, over EI R^2 w0^3, w0 = sqrt(|F_z|/(2EI))"),
         ("torque_helix_ratio", r"\tau_{helix}\,\mathrm{sgn}\,w/\tau_0", "median over the bulk of the axial torque "
          "the local helix carries, rho^2 w (2EI w^2 - |F_z|/c), over EI R^2 w0^3"),
+        ("torque_budget_residual", r"|\tau-\tau_{helix}|/(\tau_0+|\tau|)", "median over the bulk of the difference "
+         "between the torque from the friction and from the local helix, link by link, over tau_0 + |tau|"),
         ("pitch_w0_ratio", "|w|/w_0", "median over the bulk of the pitch rate over the lowest-order "
          "torque-free rate w0 = sqrt(|F_z|/(2EI)) (pitch_ratio: over the exact one)"),
         ("K_ratio", r"K/K_{model}", "bulk wall force per length over the corrected simple model's R F_z^2/(4EI)"),

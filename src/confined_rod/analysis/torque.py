@@ -89,7 +89,8 @@ def torque_scale(F, R: float, EI: float):
 
 
 #: the scalars of bulk_summary (quantities.py names)
-SUMMARY_KEYS = ("torque_friction_ratio", "torque_helix_ratio", "pitch_w0_ratio", "K_ratio", "K_ratio_from_torque")
+SUMMARY_KEYS = ("torque_friction_ratio", "torque_helix_ratio", "torque_budget_residual", "pitch_w0_ratio", "K_ratio",
+                "K_ratio_from_torque")
 
 
 @dataclass(frozen=True)
@@ -144,7 +145,10 @@ def bulk_summary(sim: xr.Dataset, bulk: np.ndarray, b: Budget | None = None) -> 
     the carried torque from the friction and from the helix over tau_0 (signed with the
     handedness), the pitch rate over the torque-free w0, and the wall force per length over
     the corrected simple model's R F^2/(4EI) (measured, and predicted from the local pitch
-    and the friction's torque). Zeros if no bulk link is on the helix."""
+    and the friction's torque); and the two torques compared link by link,
+    |tau_friction - tau_helix| / (tau_0 + |tau_friction|) (its median: a reversal of handedness
+    or another defect inside the bulk, where the uniform helix's torque does not hold, moves
+    the two medians apart but not this one). Zeros if no bulk link is on the helix."""
     b = b or budget(sim)
     keys = SUMMARY_KEYS
     m = np.asarray(bulk, dtype=bool) & b.on_helix & (b.tau0 > 0)
@@ -161,6 +165,8 @@ def bulk_summary(sim: xr.Dataset, bulk: np.ndarray, b: Budget | None = None) -> 
     K_pred = helix_wall_force(rho, w, b.tau_friction[m], EI)
     return {"torque_friction_ratio": float(np.median(sgn * b.tau_friction[m] / b.tau0[m])),
             "torque_helix_ratio": float(np.median(sgn * b.tau_helix[m] / b.tau0[m])),
+            "torque_budget_residual": float(np.median(np.abs(b.tau_friction[m] - b.tau_helix[m])
+                                                      / (b.tau0[m] + np.abs(b.tau_friction[m])))),
             "pitch_w0_ratio": float(np.median(np.abs(w) / np.sqrt(F / (2.0 * EI)))),
             "K_ratio": float(np.mean(K_meas) / np.mean(K_model)),
             "K_ratio_from_torque": float(np.mean(K_pred) / np.mean(R * F**2 / (4.0 * EI)))}
