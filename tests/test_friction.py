@@ -112,3 +112,52 @@ def test_a_one_end_contact_resists_a_pivot_only_with_friction_at_the_ends():
     e = IK.friction_term(r, r.copy(), frame, np.array([KFR * Ne[:2].sum(), 0.0, 0.0]), kt, g, np.zeros((1, 1)),
                          False)
     assert e == 0.0 and not g.any()
+
+
+@pytest.mark.parametrize("stuck", [True, False])
+def test_a_stick_anchor_keeps_no_offset_along_the_wall_normal(stuck):
+    """kernels.drop_normal_offset: an end that touched down with its anchor 1e-3 R off the wall's
+    tangent plane (the offset of its approach). The stick spring reads only the tangential offset,
+    in the frame of the point at the start of a step; an anchor off the tangent plane by d_n turns
+    a rotation dtheta of that frame into a force k_t d_n dtheta that no displacement caused (the
+    ramp stage that ran to the time cap, kernels.drop_normal_offset). After the anchor update the
+    offset is tangential, a stuck end keeps its tangential offset, a sliding one is dragged to
+    k_t |d| = f_max, and a frame rotation changes the force by at most f_max dtheta, the
+    rotation of the force itself (before: k_t d_n dtheta = 20 dtheta, 4e4 times larger)."""
+    from confined_rod.sim.model import kernels as K
+    from confined_rod.sim.model.forces import end_points
+    from confined_rod.sim.solvers import implicit_kernels as IK
+
+    kt, fm, h, dn = 2e4, 1e-3, 0.25, 1e-3
+    r, t = np.array([[1.0001, 0.0, 5.0]]), np.array([[0.0, 0.0, 1.0]])
+    p = end_points(r, t, h)                          # both ends at rho = 1.0001: the wall
+    tangential = np.array([0.0, 2e-8, 1e-8]) * (1.0 if stuck else 1e3)   # k_t |d_t| = 4.5e-4 or 0.45
+    anchor = p - tangential - np.array([dn, 0.0, 0.0])
+    fmax, pf = np.array([fm, fm]), np.zeros((2, 3, 3))
+    K.point_frames(r, t, h, pf)
+    K.update_end_anchors(r, t, anchor, pf, h, fmax, kt)
+    off = p - anchor
+    ulp = 4.0 * np.finfo(float).eps * np.abs(p).max()   # the round-off of a difference of positions ~5 R
+    assert np.abs(off[:, 0]).max() <= ulp            # radial (the wall normal at these points): none
+    if stuck:
+        np.testing.assert_allclose(off[:, 1:], np.tile(tangential[1:], (2, 1)), rtol=0.0, atol=ulp)
+    else:
+        np.testing.assert_allclose(np.linalg.norm(off, axis=1), fm / kt, rtol=0.0, atol=ulp)
+    # the force under a frame rotated by dtheta about the axis (the point moved along the wall)
+    dth = 1e-6
+    rot = np.array([[np.cos(dth), -np.sin(dth), 0.0], [np.sin(dth), np.cos(dth), 0.0], [0.0, 0.0, 1.0]])
+    pf_rot = np.zeros_like(pf)
+    K.cylinder_frames(p @ rot.T, pf_rot)
+    forces = []
+    for frames in (pf, pf_rot):
+        F, M, Ff, s = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1)
+        K.end_friction_loads(r, t, anchor, frames, h, fmax, kt, F, M, Ff, s)
+        forces.append(F[0])
+        assert s[0] == 1.0 or not stuck    # a dragged anchor sits on the edge of the stick zone
+    assert np.abs(forces[1] - forces[0]).max() <= 2.0 * (2 * fm) * dth
+    # the centre law's anchors follow the same rule
+    anchor_c = r - np.array([[dn, 1e-8, 0.0]])
+    frame = np.zeros((1, 3, 3))
+    IK.local_frames(r, frame)
+    IK.update_anchors(r, anchor_c, frame, np.array([fm]), kt)
+    assert abs((r - anchor_c)[0, 0]) <= ulp and (r - anchor_c)[0, 1] == pytest.approx(1e-8, abs=ulp)

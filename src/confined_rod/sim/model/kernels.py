@@ -526,9 +526,34 @@ def drag_anchor(anchor, k, d1, d2, fr, lim):
 
 
 @njit(cache=True)
+def drop_normal_offset(anchor, k, px, py, pz):
+    """Stick anchor k moved along the wall normal at the point p (the cylinder's radial direction
+    there) into p's tangent plane: its offset from p becomes purely tangential.
+
+    The stick spring acts only on the tangential offset, read in the frame of the point at the
+    start of each step. An anchor left off that plane by d_n (an end that touched down keeps the
+    offset of its approach; a drag along a straight tangent leaves a curved wall by the chord's
+    sag) turns every rotation dtheta of the frame into a spurious force k_t d_n dtheta. At
+    k_t = k_ph/l0 = 2e4 and d_n up to 3e-3 R, a frame rotation of 3e-9 rad per step made a force
+    of 1.7e-7 against a tolerance of 1e-8: the equilibrium the solver had just reached moved by
+    that much after every step, the residual fell by only a quarter per step while dt doubled,
+    and the ramp stage ran to the time cap (conv_ramp_steps_b n128-s6, stage 94 of 128). The
+    radial coordinate of an anchor means nothing physically (friction is tangential), so it is
+    kept at the point's."""
+    rho = np.sqrt(px * px + py * py)
+    if rho > 1e-14:
+        nx = px / rho
+        ny = py / rho
+        dn = nx * (anchor[k, 0] - px) + ny * (anchor[k, 1] - py)
+        anchor[k, 0] -= dn * nx
+        anchor[k, 1] -= dn * ny
+
+
+@njit(cache=True)
 def update_end_anchors(r, t, anchor, pf, h, fmax, kt):
     """update_anchors for friction at the link ends: an end in slip drags its anchor along so
-    that kt |d| = fmax; an end off the wall has its anchor at the end point."""
+    that kt |d| = fmax; an end off the wall has its anchor at the end point; an end on the wall
+    keeps its anchor in the tangent plane of its point (drop_normal_offset)."""
     for m in range(anchor.shape[0]):
         i = m // 2
         s = 2.0 * (m % 2) - 1.0
@@ -538,6 +563,8 @@ def update_end_anchors(r, t, anchor, pf, h, fmax, kt):
             continue
         d1, d2 = end_offset(r, t, anchor, pf, h, m)
         drag_anchor(anchor, m, d1, d2, pf[m], fmax[m] / kt)
+        drop_normal_offset(anchor, m, r[i, 0] + s * h * t[i, 0], r[i, 1] + s * h * t[i, 1],
+                           r[i, 2] + s * h * t[i, 2])
 
 
 @njit(cache=True)

@@ -551,7 +551,8 @@ def friction_term(r, anchor, frame, fmax, kt, g, ab, hessian):
 @njit(cache=True)
 def update_anchors(r, anchor, frame, fmax, kt):
     """After an accepted step: a link in slip drags its anchor along so that
-    kt |d| = fmax; a link off the wall has its anchor at its centre."""
+    kt |d| = fmax; a link off the wall has its anchor at its centre; a link on the wall keeps
+    its anchor in the tangent plane of its centre (kernels.drop_normal_offset)."""
     for i in range(r.shape[0]):
         if fmax[i] <= 0.0:
             anchor[i, 0] = r[i, 0]
@@ -560,6 +561,7 @@ def update_anchors(r, anchor, frame, fmax, kt):
             continue
         d1, d2 = tangential_offset(r, anchor, frame, i)
         K.drag_anchor(anchor, i, d1, d2, frame[i], fmax[i] / kt)
+        K.drop_normal_offset(anchor, i, r[i, 0], r[i, 1], r[i, 2])
 
 
 @njit(cache=True)
