@@ -28,6 +28,18 @@ def test_time_cap_flags_not_converged():
     assert float(ds.residual_force) > ds.attrs["tol"]
 
 
+@pytest.mark.parametrize("cap", [{"t_max": 5.0}, {"max_steps": 30}])
+def test_a_ramp_stage_that_uses_up_the_cap_ends_the_run_and_is_named(cap):
+    """The time cap and the step budget belong to the run: a ramp stage that uses them up ends it
+    there, unconverged, with the stage and its load in the reason, and no later stage is tried
+    (each would take one step at a load the rod never relaxed under)."""
+    sc = Scene(L=10.0, load=0.5, protocol="ramp", ramp_steps=4, **cap)
+    ds = simulate(sc, progress=False)
+    assert ds.attrs["status"] in ("time_cap", "step_cap") and int(ds.converged) == 0
+    assert f"ramp stage 1 of 4 (load {sc.ramp_loads()[0]:.3g} EI/R^2" in ds.attrs["status_reason"]
+    assert list(np.atleast_1d(ds.attrs["stage_converged"])) == [0]
+
+
 @pytest.mark.parametrize("solver", ["explicit", "implicit"])
 def test_a_step_budget_ends_the_run_as_step_cap_and_is_refused_when_negative(solver):
     """max_steps is a work budget: the run stops once it has taken exactly that many

@@ -62,6 +62,7 @@ class RunState:
     stage_converged: list = field(default_factory=list)
     work: dict = field(default_factory=dict)  # solver counters (Newton iterations, rejected steps, ...)
     anchor: np.ndarray | None = None  # stick anchors: per link centre, or per link end (2N, friction_at "ends")
+    capped_in: str = ""  # the stage of a protocol that used up the time cap or the step budget ("" if none did)
 
     def take_snapshot(self, limit: int | None = None, scene_name: str = "") -> None:
         if limit is not None and len(self.snapshot_times) >= limit:
@@ -246,6 +247,12 @@ def run_protocol(scene: Scene, make_stepper: Callable[[Scene], Stepper], *,
             relax(stage, st, make_stepper(stage), progress=progress,
                   label=f" ramp {i + 1}/{len(loads)}, load {F:.3g}")
             if st.escaped:
+                return st
+            if not st.converged and i + 1 < len(loads):
+                # the time cap and the step budget are the run's, not the stage's: a stage that
+                # used them up leaves nothing for the next, whose residual at a larger load would
+                # describe a load the rod never felt; the run ends here and says where
+                st.capped_in = f"ramp stage {i + 1} of {len(loads)} (load {F:.3g} EI/R^2; the full load never applied)"
                 return st
     else:
         relax(scene, st, stepper, progress=progress)
