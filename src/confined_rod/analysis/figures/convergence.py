@@ -731,7 +731,10 @@ def plot(ds: xr.Dataset):
     obs = [k for k in ((*STATE_KEYS, *RELATION_KEYS) if ensemble else OBSERVABLES) if k in ds]
     ncol = min(len(obs), 3)
     nrow = math.ceil(len(obs) / ncol)
-    fig, axes = P.plt.subplots(nrow, ncol, figsize=(7.0, 2.9 * nrow + 0.9), squeeze=False, label=ds.attrs["title"])
+    # at most the printed page's height (plotting.MAX_HEIGHT_IN): a taller figure is scaled down
+    # when printed, and its smallest text with it, below plotting.MIN_FONT_PT
+    height = min(2.9 * nrow + 0.9, P.MAX_HEIGHT_IN - 0.2)
+    fig, axes = P.plt.subplots(nrow, ncol, figsize=(7.0, height), squeeze=False, label=ds.attrs["title"])
     h = ds["h"].values
     param = ds.attrs["parameter"]
     pub = np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9)
