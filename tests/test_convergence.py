@@ -104,3 +104,32 @@ def test_a_long_verdict_is_shortened_for_the_figure_title_at_its_clauses_not_cut
     assert "L_z" not in text and "F_transmitted: differences do not shrink monotonically" in text
     assert _title_lines("convergence in $l_0$: ", "pass") == ["convergence in $l_0$: pass"]
 
+
+
+def test_a_served_tolerance_comes_from_the_finest_rung_not_from_the_value_under_test():
+    """A publication rung whose coarseness leaves 3 of 20 seeds stuck in another state (a quarter of
+    the others' value) must not widen the tolerance it is held to: the served figure's error is
+    taken from the finest rung's spread, and the shift the stuck seeds make is then undecided, not
+    passed (the case of the Fig 4(b) ramp ladder)."""
+    import numpy as np
+
+    from confined_rod.analysis import distributions
+    from confined_rod.analysis.figures.convergence import STATE_KEYS, ladder_verdict, state_tolerances
+
+    rng = np.random.default_rng(3)
+    fine = 1.0 + 0.03 * rng.standard_normal(20)
+    pub = fine * (1 + 0.002 * rng.standard_normal(20))
+    pub[[6, 8, 11]] = 0.26                                       # stuck at the publication value only
+    k = STATE_KEYS[0]
+    members = {k: np.array([pub, fine])}
+    has = np.ones((2, 20), dtype=np.int8)
+    served = [{"name": "fig.b", "seeds": 3, "reports": [k]}]
+    tol, origin = state_tolerances(members, has, 1, 0.03, served)[k]
+    assert tol == pytest.approx(distributions.budget_tolerance(fine, 3))
+    assert tol < distributions.budget_tolerance(pub, 3) / 3    # the publication rung's spread would pass it
+    assert "finest rung" in origin
+    seeds = np.tile(np.arange(20), (2, 1))
+    members["helix_balance"] = np.array([fine, fine])           # the local relation holds
+    status, notes, _ = ladder_verdict(np.array([128.0, 256.0]), members, has, 0, 0.02, 0.03, seeds=seeds,
+                                      served=served)
+    assert status.startswith("inconclusive") and f"{k} at 256" in status, status

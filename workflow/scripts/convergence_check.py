@@ -12,4 +12,7 @@ with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     check = figures.get(ds.attrs["kind"]).check
     line = check(ds, snakemake.wildcards.figure, snakemake.params.on_inconclusive)  # noqa: F821
     print(line)
-    write_text(line + "\n", snakemake.output[0])  # noqa: F821
+    # the verdict, then every comparison it was decided from (shift +- its standard error, 95 % bound,
+    # resolution, Anderson-Darling p-value, tolerance), one per line
+    details = ds.attrs.get("comparisons", "")
+    write_text(line + "\n" + (f"comparisons:\n{details}\n" if details else ""), snakemake.output[0])  # noqa: F821

@@ -41,9 +41,11 @@ no per-seed question of the final state has an answer. Two questions do:
 What a ladder vouches for (``serves``). A ladder that names the figure scenes it stands behind
 (the same rod as its publication rung) holds each final-state quantity those figures report to
 the larger of ``distribution_tolerance`` and half the 95 % error of the figure's ensemble mean
-(distributions.budget_tolerance, with the spread of the ladder's publication rung): the
-numerical bias then stays well below the statistical error of what the figure reports, which is
-all the figure needs, and the ladder's size follows from the figure's. Quantities no served
+(distributions.budget_tolerance, with the spread of the ladder's finest rung: the reference,
+so that an artefact of the value under test, a share of seeds stuck in another state say,
+cannot widen the tolerance it is held to): the numerical bias then stays well below the
+statistical error of what the figure reports, which is all the figure needs, and the ladder's
+size follows from the figure's. Quantities no served
 figure reports are compared and described but do not decide. Without ``serves`` every
 final-state quantity decides against ``distribution_tolerance``.
 
@@ -136,13 +138,19 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
     sc = next(iter(built.values()))
     values = sorted({getattr(s, p) for s in built.values()}, reverse=True)
     vals = ", ".join(f"{v:g}" for v in values)
-    n = len(built) / len(values)
+    per_rung = [sum(1 for s in built.values() if getattr(s, p) == v) for v in values]
+    n = max(per_rung)
     if n > 1:
+        runs = f"{n}" if min(per_rung) == n else f"{min(per_rung)} to {n}"
         tol = 100 * float(fig_cfg["tolerance"])
         dtol = 100 * float(fig_cfg.get("distribution_tolerance", fig_cfg["tolerance"]))
+        states_tol = (f"{dtol:g} % for the final states" if not fig_cfg.get("serves") else
+                      f"for the final states {dtol:g} % or, where that is larger, half the 95 % error of the mean "
+                      "that a figure the ladder serves reports (computed with the finest rung's spread; each panel's "
+                      "title gives the tolerance it was held to)")
         same = (" Only the path differs between rungs; lines join a seed's values." if fig_cfg.get("paired") else "")
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, load = {sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each "
-                f"rung a seed ensemble of {n:g} runs (a run not at a stable equilibrium is left out and named in the "
+                f"rung a seed ensemble of {runs} runs (a run not at a stable equilibrium is left out and named in the "
                 "verdict). Two questions: the local relation of the regular helix that holds in whichever equilibrium "
                 "a seed reached, whatever axial torque the friction locked in (its lateral balance: the wall force per "
                 "length K over rho w^2 (|F_z|/c - EI w^2)), and the distribution of final states (the transmitted "
@@ -150,15 +158,16 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
                 "decay rate over k_fr R/(4EI), the wall force per length over R F_z^2/(4EI), the pitch rate over that "
                 f"of a torque-free helix at the local force). {P.words(P.SEEDS)} dots the single seeds, ensemble means "
                 "with their 95 % intervals, the band the tolerance about the finest rung's mean; panel titles give "
-                "the largest shift of the publication rung's mean from a finer rung and the resolution (the shift a "
+                "the largest shift of the publication rung's mean from a finer rung (+- its standard error) and the "
+                "resolution (the shift a "
                 "5 % test of these ensembles detects with 95 % power); every rung starts a seed from the same rod, so "
                 "shifts and their errors come from the differences seed by seed, over the seeds both rungs have "
                 "(where a rung leaves a seed out, the title's shift differs from the ratio of the plotted means, "
                 f"which are over all of a rung's seeds). The publication value {p} = "
                 f"{publication_value:g} passes when every shift's 95 % bound and resolution are within the tolerance "
-                f"({tol:g} % for the relations, {dtol:g} % for the final states) and fails when a shift exceeds it "
+                f"({tol:g} % for the relations, {states_tol}) and fails when a shift exceeds it "
                 "beyond its 95 % bound; otherwise the verdict is inconclusive and names the seeds per rung that would "
-                f"decide (full verdict with the Anderson-Darling p-values: {layout.CHECKS}).{same}")
+                f"decide (every comparison with its 95 % bound and Anderson-Darling p-value: {layout.CHECKS}).{same}")
     return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}): transmitted force, L_z and "
             f"bulk pitch against the refinement variable, with the Richardson limit from the three finest "
             f"rungs and the band of +-{100 * float(fig_cfg['tolerance']):g} % about it that the publication "
@@ -391,13 +400,13 @@ def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
     return out
 
 
-def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, ipub: int, dist_tol: float,
+def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, iref: int, dist_tol: float,
                      served: list[Mapping[str, Any]] | None) -> dict[str, tuple[float, str] | None]:
     """Per final-state quantity (STATE_KEYS): (tolerance, where it comes from), or None where it
     does not decide (module docstring, ``serves``). Without served figures every quantity is held
     to ``dist_tol``; with them, a quantity reported by the served figures to the larger of
     ``dist_tol`` and budget_tolerance over the largest served ensemble that reports it, computed
-    from the publication rung's members."""
+    from the members of rung ``iref`` (the finest: the reference)."""
     out: dict[str, tuple[float, str] | None] = {}
     for k in STATE_KEYS:
         if not served:
@@ -408,13 +417,14 @@ def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, ipub: i
             out[k] = None
             continue
         figure = max(by, key=lambda s: s["seeds"])
-        v = members[k][ipub] if k in members else np.array([])
-        x = v[(has[ipub] == 1) & np.isfinite(v)] if v.size else v
+        v = members[k][iref] if k in members else np.array([])
+        x = v[(has[iref] == 1) & np.isfinite(v)] if v.size else v
         budget = (distributions.budget_tolerance(x, int(figure["seeds"]))
                   if x.size >= 2 and x.mean() != 0.0 and figure["seeds"] >= 2 else 0.0)
         if budget > dist_tol:
             out[k] = (budget, f" (half the 95 % error of a mean over the {figure['seeds']} seeds "
-                              f"{figure['name']} is configured for; seeds it leaves out widen its error)")
+                              f"{figure['name']} is configured for, with the finest rung's spread; seeds it leaves "
+                              "out widen its error)")
         else:
             out[k] = (dist_tol, "")
     return out
@@ -440,7 +450,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     finer = list(range(ipub + 1, len(values)))
     table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp", "deciding")}
     notes, decisive = [], []
-    state_tol = state_tolerances(members, has, ipub, dist_tol, served)
+    state_tol = state_tolerances(members, has, len(values) - 1, dist_tol, served)
     if not finer:
         return "inconclusive: no rung finer than the publication value", ["no finer rung"], table
     compared_relation = False
@@ -622,6 +632,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
                      "worst_distance": max([abs(c.shift) for c, deciding in zip(table["cmp"], table["deciding"])
                                             if deciding] or [0.0]),
                      "notes": "; ".join(notes),
+                     "comparisons": "\n".join(notes),
                      "paired": int(bool(fig_cfg.get("paired", False))),
                      "serves": (", ".join(f"{s['name']} ({s['seeds']} seeds configured: {', '.join(s['reports'])})"
                                           for s in served) or "none"),
