@@ -35,6 +35,15 @@ include: "workflow/rules/views.smk"
 report: "workflow/report/workflow.rst"
 
 
+onstart:
+    # the estimated wall time of every job to run, for the progress line (pipeline.progress)
+    from snakemake.logging import logger as _logger
+    from confined_rod.pipeline import progress as _progress
+
+    _plan = _progress.plan_of(workflow.dag.needrun_jobs())
+    _logger.info(_progress.plan_message(_plan), extra={_progress.PLAN_ATTRIBUTE: _plan})
+
+
 # run on the submitting host under a cluster executor (profiles/slurm): the paper needs TeX there
 localrules:
     all,

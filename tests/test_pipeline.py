@@ -331,6 +331,37 @@ def test_code_inputs_follow_the_imports_and_never_reach_the_simulator():
     assert "claims/manuscript.py" in rel(code.paper_code())
 
 
+def test_a_code_stamp_changes_with_a_module_and_is_dated_like_the_newest(tmp_path):
+    """A step's code enters its rule as one stamp: the modules' checksums, rewritten when one
+    changes (Snakemake compares its checksum) and dated like the newest module (its mtime trigger),
+    so a re-run happens exactly when it did with the modules themselves as inputs."""
+    import os
+
+    from confined_rod.pipeline import code
+
+    mods = [tmp_path / "pkg" / n for n in ("a.py", "b.py")]
+    mods[0].parent.mkdir()
+    for i, m in enumerate(mods):
+        m.write_text(f"x = {i}\n")
+        os.utime(m, ns=(10**18 + i * 10**9, 10**18 + i * 10**9))
+    orig, code.PACKAGE = code.PACKAGE, tmp_path / "pkg"   # the paths in the stamp are relative to it
+    try:
+        out = Path(code.stamp("demo", [str(m) for m in mods], tmp_path / "s" / "demo.sha256"))
+        first = out.read_text()
+        assert out.stat().st_mtime_ns == 10**18 + 10**9
+        assert first.count("pkg/") == 2 and "a.py" in first
+        code.stamp("demo", [str(m) for m in mods], out)                  # nothing changed
+        assert out.read_text() == first
+        os.utime(mods[0], ns=(2 * 10**18, 2 * 10**18))                   # touched only: same checksums
+        code.stamp("demo", [str(m) for m in mods], out)
+        assert out.read_text() == first and out.stat().st_mtime_ns == 2 * 10**18
+        mods[1].write_text("x = 5\n")                                    # a change of content
+        code.stamp("demo", [str(m) for m in mods], out)
+        assert out.read_text() != first and out.stat().st_mtime_ns == max(m.stat().st_mtime_ns for m in mods)
+    finally:
+        code.PACKAGE = orig
+
+
 def test_expand_leaves_the_config_as_it_is_and_its_result_pickles_as_a_plain_dict():
     """The expanded config goes to every job's script by pickle: unpickling it must not import
     this package (a job puts its own checkout's src/ first only after the preamble)."""

@@ -21,6 +21,7 @@ tools use, relative to the checkout. ``results/`` is generated and git-ignored:
       paper/                          the manuscript's generated parts and PDF
       logs/<rule>/..., benchmarks/<rule>/...   one log and one benchmark per job
       .rebuild/<figure>/<scene>.stale markers that rebuild a scene file that is not the config's run
+      .code/<part>.sha256             the code a step depends on, one file per part (pipeline.code.stamp)
 """
 from __future__ import annotations
 
@@ -121,6 +122,12 @@ def rebuild_marker(figure: str, scene: str) -> Path:
     """An empty file whose fresh mtime makes Snakemake rebuild a scene file that is not the
     run the config asks for (see targets.stale_inputs)."""
     return RESULTS / ".rebuild" / figure / f"{scene}.stale"
+
+
+def code_stamp(part: str) -> str:
+    """results/.code/<part>.sha256: the checksums of the modules one kind of step runs, with the
+    newest module's mtime (confined_rod.pipeline.code.stamp)."""
+    return str(RESULTS / ".code" / f"{part}.sha256")
 
 
 def check_path(figure: str) -> str:

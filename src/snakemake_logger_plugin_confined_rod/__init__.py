@@ -10,6 +10,8 @@ from logging import LogRecord
 from snakemake_interface_logger_plugins.base import LogHandlerBase
 from snakemake_interface_logger_plugins.common import LogEvent
 
+from confined_rod.pipeline.progress import PLAN_ATTRIBUTE
+
 
 class LogHandler(LogHandlerBase):
     def __post_init__(self) -> None:
@@ -25,7 +27,10 @@ class LogHandler(LogHandlerBase):
     def emit(self, record: LogRecord) -> None:
         event = getattr(record, "event", None)
         try:
-            if event == LogEvent.RESOURCES_INFO and getattr(record, "cores", None):
+            plan = getattr(record, PLAN_ATTRIBUTE, None)
+            if plan is not None:
+                self._say(self.progress.set_plan(plan))
+            elif event == LogEvent.RESOURCES_INFO and getattr(record, "cores", None):
                 self.progress.cores = max(1, int(record.cores))
             elif event == LogEvent.RUN_INFO:
                 stats = dict(getattr(record, "stats", {}) or {})

@@ -43,7 +43,17 @@ ALL_TARGETS = pipeline.expected_outputs(config)
 # a figure kind's module and what it imports -> its datasets and figures; the styling -> the
 # figures only; claims/ -> the claims and the manuscript. Post-processing never imports the
 # simulator (checked by the import contracts in pyproject.toml).
-SIMULATION_CODE = code.simulation_code()
+# Each closure enters a rule as one stamp file of its modules' checksums (pipeline.code.stamp).
+_STAMPS = {}
+
+
+def code_stamp(part, modules):
+    if part not in _STAMPS:
+        _STAMPS[part] = code.stamp(part, modules, layout.code_stamp(part))
+    return _STAMPS[part]
+
+
+SIMULATION_CODE = code_stamp("simulation", code.simulation_code())
 PATH_CODE = SIMULATION_CODE
 
 
@@ -113,11 +123,13 @@ def kind_module(wildcards):
 
 
 def postprocess_code(wildcards):
-    return code.postprocess_code(kind_module(wildcards))
+    kind = config["figures"][wildcards.figure]["kind"]
+    return code_stamp(f"postprocess-{kind}", code.postprocess_code(kind_module(wildcards)))
 
 
 def figure_code(wildcards):
-    return code.figure_code(kind_module(wildcards))
+    kind = config["figures"][wildcards.figure]["kind"]
+    return code_stamp(f"figure-{kind}", code.figure_code(kind_module(wildcards)))
 
 
 def read_datasets(wildcards):
@@ -163,8 +175,8 @@ def path_priority(wildcards):
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
 PAPER = config.get("paper") or {}
-CLAIMS_CODE = code.claims_code()
-PAPER_CODE = code.paper_code()
+CLAIMS_CODE = code_stamp("claims", code.claims_code())
+PAPER_CODE = code_stamp("paper", code.paper_code())
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
                else "config/config.yaml")
 

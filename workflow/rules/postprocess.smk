@@ -59,8 +59,11 @@ rule error_budget:
     and .csv (confined_rod.analysis.error_budget)."""
     input:
         datasets=ALL_TARGETS["datasets"],
-        code=lambda wildcards: code.budget_code(
-            {pipeline.kinds.module_path(config["figures"][f]["kind"]) for f in pipeline.figures(config)}
+        code=lambda wildcards: code_stamp(
+            "error_budget",
+            code.budget_code(
+                {pipeline.kinds.module_path(config["figures"][f]["kind"]) for f in pipeline.figures(config)}
+            ),
         ),
     output:
         nc=layout.ERROR_BUDGET_NC,

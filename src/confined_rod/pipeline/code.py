@@ -8,10 +8,15 @@ changes. The package's parts decide it by where a file is:
   ``claims/manuscript.py``, only the manuscript's generated parts).
 
 The closures are read from the imports (:func:`code_closure`), so a helper shared by two kinds is
-in both, and a new module lands on the side of the part it is in."""
+in both, and a new module lands on the side of the part it is in.  A rule's input is not the
+modules themselves but one stamp per closure (:func:`stamp`): their checksums, dated like the
+newest of them, so that Snakemake compares one file per job instead of some twenty (its
+scheduler hashes and stats every input of every ready job each time a job ends)."""
 from __future__ import annotations
 
 import functools
+import hashlib
+import os
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1]
@@ -128,3 +133,24 @@ def paper_code() -> list[str]:
 def view_code() -> list[str]:
     """The 3-D views of the simulations: the view module and what it imports."""
     return code_closure(VIEW, skip=(STYLE,))
+
+
+def stamp(part: str, modules: list[str], path: str | Path) -> str:
+    """The file at ``path`` that stands for ``modules`` as a rule's input: one line per module,
+    its SHA-256 and its path in the package, rewritten only when a checksum or the list changes,
+    and given the mtime of the newest module. Snakemake then re-runs a step exactly when it did
+    with the modules as inputs (an output older than a module; a content that changed). Written
+    atomically: the jobs of a cluster parse the workflow too."""
+    path = Path(path)
+    text = f"# the code of the {part} steps (confined_rod.pipeline.code)\n" + "".join(
+        f"{hashlib.sha256(Path(m).read_bytes()).hexdigest()}  {Path(m).relative_to(PACKAGE.parent).as_posix()}\n"
+        for m in sorted(modules))
+    newest = max(Path(m).stat().st_mtime_ns for m in modules)
+    if not path.is_file() or path.read_text() != text:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}")
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    if path.stat().st_mtime_ns != newest:
+        os.utime(path, ns=(newest, newest))
+    return str(path)

@@ -3,12 +3,15 @@
 
 Every rule declares the resource ``est_s``, the job's estimated wall time in seconds: for a
 scene's job the estimate from measured runs (``limits.estimated_wall_time`` via the rules'
-priorities; the start-up alone for a scene moved into place from its batch), for the other
-rules :data:`RULE_ESTIMATE_S`.  Snakemake announces a job when it starts, so the jobs not yet
-started are counted per rule (its run info) at the mean estimate of that rule's started jobs.
-Once a few jobs have finished, the estimate is corrected by how fast this machine runs them
-(elapsed against estimated, bounded to a factor 4 either way).  The lines are plain text, one
-per report, legible on a terminal and in a log file."""
+priorities; nothing for a scene moved into place from its batch), for the other rules
+:data:`RULE_ESTIMATE_S`.  When the build starts, the workflow hands over the estimate of every
+job it is going to run (:func:`plan_of`, from Snakemake's DAG in the Snakefile's ``onstart``).
+The time left is then the estimates of the jobs not yet started and the rest of the running
+ones, scaled by how fast this machine runs them (the finished jobs' measured wall times
+against their estimates), shared over the cores, and never less than the longest job left.
+Without a plan (Snakemake announces a job only when it starts) the jobs not yet started are
+counted per rule at the mean estimate of that rule's started jobs.  The lines are plain text,
+one per report, legible on a terminal and in a log file."""
 from __future__ import annotations
 
 import time
@@ -21,8 +24,12 @@ RULE_ESTIMATE_S = {"postprocess": 2.0, "figure": 3.6, "convergence_check": 1.5, 
 DEFAULT_ESTIMATE_S = 2.0
 #: seconds between two reports (the last job is always reported)
 REPORT_EVERY_S = 10.0
-#: finished jobs before the estimate is corrected by the measured speed
+#: finished jobs (with an estimate) before the estimate is corrected by the measured speed
 CALIBRATE_AFTER = 5
+#: the measured speed is bounded to this factor either way (a few odd jobs must not swing it)
+SPEED_BOUND = 10.0
+#: attribute of the log record by which the workflow hands its plan to the logger plugin
+PLAN_ATTRIBUTE = "confined_rod_plan"
 
 
 def duration(seconds: float) -> str:
@@ -33,29 +40,62 @@ def duration(seconds: float) -> str:
     return f"{seconds / 3600:.1f} h"
 
 
+def job_estimate(rule: str, est_s: float | None) -> float:
+    """A job's estimated wall time (s): its ``est_s`` resource, else its rule's typical time."""
+    return float(est_s) if est_s is not None else RULE_ESTIMATE_S.get(rule, DEFAULT_ESTIMATE_S)
+
+
+def plan_of(jobs) -> dict[int, tuple[str, float]]:
+    """{job id: (rule, estimated s)} of Snakemake jobs (``workflow.dag.needrun_jobs()``)."""
+    plan = {}
+    for job in jobs:
+        res = job.resources
+        est = res.get("est_s") if hasattr(res, "get") else None
+        plan[int(job.jobid)] = (job.rule.name, job_estimate(job.rule.name, est))
+    return plan
+
+
+def plan_message(plan: dict[int, tuple[str, float]]) -> str:
+    """The line that hands the plan over: the jobs and their summed estimate."""
+    return f"progress: {len(plan)} jobs planned, {sum(e for _, e in plan.values()):.0f} job-s estimated"
+
+
 @dataclass
 class BuildProgress:
     cores: int = 1
     t0: float = field(default_factory=time.monotonic)
     counts: dict[str, int] = field(default_factory=dict)       # jobs to run per rule (run info)
-    running: dict[int, tuple[str, float]] = field(default_factory=dict)
+    planned: dict[int, tuple[str, float]] = field(default_factory=dict)   # every job to run (plan_of)
+    running: dict[int, tuple[str, float, float]] = field(default_factory=dict)  # rule, estimate, start
     started: dict[str, list[float]] = field(default_factory=dict)
+    finished: set[int] = field(default_factory=set)
     done: int = 0
-    done_estimate: float = 0.0
+    done_estimate: float = 0.0     # the finished jobs' estimates ...
+    done_measured: float = 0.0     # ... and their measured wall times (jobs with an estimate only)
+    done_timed: int = 0
+    busy: float = 0.0              # wall seconds of all finished jobs
+    fit_sums: list[float] = field(default_factory=lambda: [0.0] * 5)   # for model()
     last_report: float = -1e9
 
     @property
     def total(self) -> int:
-        return sum(self.counts.values())
+        return len(self.planned) if self.planned else sum(self.counts.values())
 
-    def plan(self, counts: dict[str, int]) -> str:
+    def plan(self, counts: dict[str, int]) -> None:
+        """The jobs to run per rule (Snakemake's run info; the plan, :meth:`set_plan`, follows)."""
         self.counts = {r: int(n) for r, n in counts.items()}
-        return (f"progress: {self.total} jobs to run, about {duration(self.remaining_estimate() / self.cores)} on "
-                f"{self.cores} core{'s' if self.cores != 1 else ''} (estimated from measured runs)")
 
-    def start(self, jobid: int, rule: str, est_s: float | None) -> None:
-        est = float(est_s) if est_s is not None else RULE_ESTIMATE_S.get(rule, DEFAULT_ESTIMATE_S)
-        self.running[jobid] = (rule, est)
+    def set_plan(self, planned: dict[int, tuple[str, float]]) -> str:
+        """The estimate of every job to run; the line announcing it."""
+        self.planned = {int(j): (str(r), float(e)) for j, (r, e) in planned.items()}
+        left = self.wall_left(self.t0)
+        return (f"progress: {self.total} jobs to run, about {duration(left)} on {self.cores} "
+                f"core{'s' if self.cores != 1 else ''} (estimated from measured runs)")
+
+    def start(self, jobid: int, rule: str, est_s: float | None, now: float | None = None) -> None:
+        now = time.monotonic() if now is None else now
+        est = self.planned[jobid][1] if jobid in self.planned else job_estimate(rule, est_s)
+        self.running[jobid] = (rule, est, now)
         self.started.setdefault(rule, []).append(est)
 
     def _rule_mean(self, rule: str) -> float:
@@ -63,22 +103,73 @@ class BuildProgress:
         return sum(seen) / len(seen) if seen else RULE_ESTIMATE_S.get(rule, DEFAULT_ESTIMATE_S)
 
     def remaining_estimate(self) -> float:
-        """Estimated job-seconds not yet done: running jobs and the jobs not yet started."""
-        waiting = sum(max(0, n - len(self.started.get(r, []))) * self._rule_mean(r) for r, n in self.counts.items())
-        return waiting + sum(est for _, est in self.running.values())
+        """Estimated job-seconds of the jobs not yet started and of the running ones (their whole
+        estimates: :meth:`wall_left` subtracts what has been run)."""
+        if self.planned:
+            waiting = sum(e for j, (_, e) in self.planned.items() if j not in self.running and j not in self.finished)
+        else:
+            waiting = sum(max(0, n - len(self.started.get(r, []))) * self._rule_mean(r) for r, n in self.counts.items())
+        return waiting + sum(est for _, est, _ in self.running.values())
 
-    def speed(self, now: float) -> float:
-        """Measured wall time over estimated, once enough jobs have finished (1 before)."""
-        if self.done < CALIBRATE_AFTER or self.done_estimate <= 0:
+    def model(self) -> tuple[float, float]:
+        """(a, v): a job estimated at e seconds takes a + v e on this machine, fitted to the finished
+        jobs by least squares on relative errors (weights 1/e), a >= 0 (the work per job that the
+        estimates leave out), v bounded by SPEED_BOUND either way; (0, 1) until CALIBRATE_AFTER of
+        them have finished."""
+        if self.done_timed < CALIBRATE_AFTER:
+            return 0.0, 1.0
+        sw, se, see, sm, sem = self.fit_sums
+        det = sw * see - se * se
+        a, v = ((see * sm - se * sem) / det, (sw * sem - se * sm) / det) if det > 1e-12 * sw * see else (0.0, 0.0)
+        if a < 0.0 or v <= 0.0:
+            a, v = 0.0, sem / see
+        v = min(SPEED_BOUND, max(1.0 / SPEED_BOUND, v))
+        return max(0.0, a), v
+
+    def speed(self, now: float | None = None) -> float:
+        """Measured over estimated wall time of a typical finished job (1 before calibration)."""
+        if self.done_timed < CALIBRATE_AFTER or self.done_estimate <= 0:
             return 1.0
-        return min(4.0, max(0.25, (now - self.t0) * self.cores / self.done_estimate))
+        a, v = self.model()
+        return (a * self.done_timed + v * self.done_estimate) / self.done_estimate
+
+    def utilisation(self, now: float) -> float:
+        """The share of the cores' time spent in jobs so far (the rest: Snakemake's own work between
+        jobs, and cores idle for want of a ready job); 1 until CALIBRATE_AFTER jobs have finished."""
+        elapsed = now - self.t0
+        if self.done_timed < CALIBRATE_AFTER or elapsed <= 0:
+            return 1.0
+        busy = self.busy + sum(now - t for _, _, t in self.running.values())
+        return min(1.0, max(0.2, busy / (elapsed * self.cores)))
+
+    def wall_left(self, now: float) -> float:
+        """Wall seconds left: the work left at the measured speed over the cores at the measured
+        utilisation, at least the longest single job left."""
+        a, v = self.model()
+        if self.planned:
+            waiting = [e for j, (_, e) in self.planned.items() if j not in self.running and j not in self.finished]
+        else:
+            waiting = [self.remaining_estimate() - sum(est for _, est, _ in self.running.values())]
+        running = [max(0.0, a + v * est - (now - t)) for _, est, t in self.running.values()]
+        waiting = [a + v * e for e in waiting] if self.planned else [v * w for w in waiting]
+        work = sum(waiting) + sum(running)
+        longest = max(waiting + running + [0.0]) if self.planned else 0.0
+        return max(work / (self.cores * self.utilisation(now)), longest)
 
     def finish(self, jobid: int, now: float | None = None) -> str | None:
         """Record a finished job; a report line if one is due."""
         now = time.monotonic() if now is None else now
-        _, est = self.running.pop(jobid, ("", 0.0))
+        _, est, t = self.running.pop(jobid, ("", 0.0, now))
+        self.finished.add(jobid)
+        self.busy += now - t
         self.done += 1
-        self.done_estimate += est
+        if est > 0:
+            self.done_estimate += est
+            self.done_measured += now - t
+            self.done_timed += 1
+            w, m = 1.0 / max(est, 1.0), now - t
+            for i, x in enumerate((w, w * est, w * est * est, w * m, w * est * m)):
+                self.fit_sums[i] += x
         last = self.total and self.done >= self.total
         if not last and now - self.last_report < REPORT_EVERY_S:
             return None
@@ -87,6 +178,5 @@ class BuildProgress:
         total = max(self.total, self.done)
         if last:
             return f"progress: {self.done} of {total} jobs done in {duration(elapsed)}"
-        left = self.speed(now) * self.remaining_estimate() / self.cores
         return (f"progress: {self.done} of {total} jobs done ({100 * self.done / total:.0f} %), "
-                f"{duration(elapsed)} elapsed, about {duration(left)} left")
+                f"{duration(elapsed)} elapsed, about {duration(self.wall_left(now))} left")
