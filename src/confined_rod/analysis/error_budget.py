@@ -22,9 +22,11 @@ nature:
   of length lambda (L for the first threshold, L/2 for the second, the free span for an escape
   of Fig 8), replace the ladders.
 
-Each parameter's bias is bounded at 95 % by |delta_p| + t sigma_p, t Student's quantile for the
-degrees of freedom of sigma_p (paired seeds less one); the bound of the number is the root sum of
-squares over the parameters (independent settings). It is set beside the statistical 95 %
+The bound of the number's bias is sum_p |delta_p| + t sqrt(sum_p sigma_p^2): a bias is not
+random, so the terms' magnitudes add (no cancellation is assumed, their signs being measured at
+other rods for most numbers), and only their measurement errors, independent ladders, add in
+quadrature; t is the largest Student's quantile of the terms (paired seeds less one). It is set
+beside the statistical 95 %
 half-width t sd/sqrt(n) (n - 1 degrees of freedom; a share of seeds has its Wilson interval):
 the larger one limits the number. Two caveats the table states: the shift is measured to the
 finest rung, not to the limit (for a term of order p on a ladder halving h twice down to its
@@ -109,6 +111,17 @@ class Ladder:
     shifts: Mapping[str, tuple[float, float, float]]
 
 
+def bias_bound(bias: np.ndarray, se: np.ndarray, t: np.ndarray, has: np.ndarray) -> float:
+    """95 % bound of a number's relative bias from its terms (module docstring): the magnitudes
+    add, their standard errors in quadrature with the largest of their t factors."""
+    on = (has == 1)
+    if not on.any():
+        return 0.0
+    measured = on & (se > 0)
+    spread = float(np.sqrt(np.sum(se[measured] ** 2)))
+    return float(np.sum(np.abs(bias[on]))) + (float(np.max(t[measured])) * spread if measured.any() else 0.0)
+
+
 def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
     """The ensemble convergence ladders among the datasets, with the publication rung's shift from
     the finest rung per compared quantity."""
@@ -185,8 +198,7 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
                 moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
                 source[i, p] = (f"{lad.name} (L/R = {lad.L:g}, k_fr = {lad.k_fr:g}, load = {lad.load:g}"
                                 + ("; transferred)" if moved[i, p] else ")"))
-        per = np.abs(bias[i]) + bias_t[i] * bias_se[i]
-        bound[i] = float(np.sqrt(np.sum(np.where(has_bias[i] == 1, per, 0.0) ** 2)))
+        bound[i] = bias_bound(bias[i], bias_se[i], bias_t[i], has_bias[i])
         limited[i] = LIMITED_BY.index("unknown" if not has_stat[i] else
                                       "numerics" if bound[i] > stat_t[i] * stat[i] else "statistics")
     coords = {"headline": variable(("headline",), np.array([h.key for h in heads], dtype=object), "headline"),

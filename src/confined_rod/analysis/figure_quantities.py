@@ -347,8 +347,8 @@ FIGURE_QUANTITIES = [
     Quantity("bias_transferred", "", "the bias term was measured at another rod (L, k_fr or load) than the "
              "headline's and transferred as a relative shift (1) or at the headline's rod (0)", "1"),
     Quantity("bias_source", "", "where the bias was measured (ladder and its rod) or how it is known", "1"),
-    Quantity("bias_bound", r"B_{95}", "95 % bound of the relative numerical bias: root sum of squares over the "
-             "parameters of |delta_p| + t sigma_p (bias_factor)", "1"),
+    Quantity("bias_bound", r"B_{95}", "95 % bound of the relative numerical bias: sum over the parameters of "
+             "|delta_p|, plus t (the largest bias_factor) times the root sum of squares of sigma_p", "1"),
     Quantity("limited_by", "", "what limits the headline number: 0 its statistics (t sigma_stat >= B_95), "
              "1 its numerics, 2 unknown (statistical error not measured)", "1"),
 ]
