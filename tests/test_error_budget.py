@@ -45,8 +45,8 @@ def row(ds, key):
 
 def test_bias_is_the_publication_rungs_shift_and_the_bound_adds_the_magnitudes():
     """Two ladders with known shifts of opposite sign: the bias per parameter is the shift, the
-    bound sum |delta| + 1.96 sqrt(sum se^2) (no cancellation); the number is limited by its numerics when the bound exceeds
-    1.96 standard errors of the mean, by its statistics otherwise."""
+    bound sum |delta| + 1.96 sqrt(sum se^2) (no cancellation); the number is limited by its
+    numerics when the bound exceeds 1.96 standard errors of the mean, by its statistics otherwise."""
     lads = {"conv_l0": ladder("l0", 80, {"F_transmitted": (-0.016, 0.0056)}),
             "conv_tol": ladder("tol", 80, {"F_transmitted": (+0.0001, 0.0)})}
     h_num = headline(value=0.1, se=0.0005)    # statistics 0.98 % at 95 % < bound 2.7 %
