@@ -112,3 +112,22 @@ def test_the_log_reader_compares_each_estimate_with_the_real_time_left():
     assert out["wall_s"] == 600.0
     assert [r["ratio"] for r in out["rows"]] == pytest.approx([2.0, 0.75])
     assert out["from_10_percent"]["worst_factor"] == pytest.approx(2.0)
+
+
+def test_the_replay_runs_the_logged_jobs_through_the_estimator():
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.spec_from_file_location(
+        "progress_error", Path(__file__).resolve().parents[1] / "tools" / "progress_error.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    block = "[Sun Dec  6 08:{m:02d}:{s:02d} 2026]\nrule batch:\n    jobid: {j}\n    resources: est_s={e}, mem_mb=1\n\n"
+    done = "[Sun Dec  6 08:{m:02d}:{s:02d} 2026]\nFinished jobid: {j} (Rule: batch)\n"
+    log = "".join(block.format(m=0, s=0, j=j, e=100) for j in (1, 2))                 # two jobs on two cores
+    log += done.format(m=1, s=40, j=1) + done.format(m=1, s=40, j=2)
+    log += "".join(block.format(m=1, s=40, j=j, e=100) for j in (3, 4)) + done.format(m=3, s=20, j=3)
+    log += done.format(m=3, s=20, j=4)
+    out = tool.replay(log)
+    assert out["wall_s"] == 200.0 and out["lines"] == 4
+    assert out["rows"][1]["true_left_s"] == 100.0 and out["rows"][1]["said_left_s"] == pytest.approx(100.0)

@@ -28,6 +28,8 @@ REPORT_EVERY_S = 10.0
 CALIBRATE_AFTER = 5
 #: the measured speed is bounded to this factor either way (a few odd jobs must not swing it)
 SPEED_BOUND = 10.0
+#: a job estimated below this (s) measures the per-job work the estimates leave out (model())
+SHORT_JOB_S = 10.0
 #: attribute of the log record by which the workflow hands its plan to the logger plugin
 PLAN_ATTRIBUTE = "confined_rod_plan"
 
@@ -74,7 +76,7 @@ class BuildProgress:
     done_measured: float = 0.0     # ... and their measured wall times (jobs with an estimate only)
     done_timed: int = 0
     busy: float = 0.0              # wall seconds of all finished jobs
-    fit_sums: list[float] = field(default_factory=lambda: [0.0] * 5)   # for model()
+    short_sums: list[float] = field(default_factory=lambda: [0.0] * 3)  # short jobs: n, estimated, measured
     last_report: float = -1e9
 
     @property
@@ -111,26 +113,31 @@ class BuildProgress:
             waiting = sum(max(0, n - len(self.started.get(r, []))) * self._rule_mean(r) for r, n in self.counts.items())
         return waiting + sum(est for _, est, _ in self.running.values())
 
-    def model(self) -> tuple[float, float]:
-        """(a, v): a job estimated at e seconds takes a + v e on this machine, fitted to the finished
-        jobs by least squares on relative errors (weights 1/e), a >= 0 (the work per job that the
-        estimates leave out), v bounded by SPEED_BOUND either way; (0, 1) until CALIBRATE_AFTER of
-        them have finished."""
-        if self.done_timed < CALIBRATE_AFTER:
+    def model(self, now: float | None = None) -> tuple[float, float]:
+        """(a, v): a job estimated at e > 0 seconds takes a + v e on this machine (a job estimated
+        at 0, a scene moved into place from its batch, takes nothing). v is the finished jobs'
+        measured over estimated time, a the mean excess of the jobs estimated at under
+        SHORT_JOB_S (the work per job that the estimates leave out; the long jobs fix v, the short
+        ones a), a >= 0 and v bounded by SPEED_BOUND either way; (0, 1) until CALIBRATE_AFTER jobs
+        have finished."""
+        if self.done_timed < CALIBRATE_AFTER or self.done_estimate <= 0:
             return 0.0, 1.0
-        sw, se, see, sm, sem = self.fit_sums
-        det = sw * see - se * se
-        a, v = ((see * sm - se * sem) / det, (sw * sem - se * sm) / det) if det > 1e-12 * sw * see else (0.0, 0.0)
-        if a < 0.0 or v <= 0.0:
-            a, v = 0.0, sem / see
+        v = self.done_measured / self.done_estimate
+        if now is not None and self.running:
+            # the longest jobs start first and finish last: a running job will take at least what it
+            # has run, which bounds the speed from below before the long jobs have finished
+            run = [(now - t, est) for _, est, t in self.running.values() if est > 0]
+            v = max(v, (self.done_measured + sum(r for r, _ in run)) / (self.done_estimate + sum(e for _, e in run)))
         v = min(SPEED_BOUND, max(1.0 / SPEED_BOUND, v))
-        return max(0.0, a), v
+        n_short, e_short, m_short = self.short_sums
+        a = max(0.0, (m_short - v * e_short) / n_short) if n_short else 0.0
+        return a, v
 
     def speed(self, now: float | None = None) -> float:
         """Measured over estimated wall time of a typical finished job (1 before calibration)."""
         if self.done_timed < CALIBRATE_AFTER or self.done_estimate <= 0:
             return 1.0
-        a, v = self.model()
+        a, v = self.model(now)
         return (a * self.done_timed + v * self.done_estimate) / self.done_estimate
 
     def utilisation(self, now: float) -> float:
@@ -145,13 +152,13 @@ class BuildProgress:
     def wall_left(self, now: float) -> float:
         """Wall seconds left: the work left at the measured speed over the cores at the measured
         utilisation, at least the longest single job left."""
-        a, v = self.model()
+        a, v = self.model(now)
         if self.planned:
             waiting = [e for j, (_, e) in self.planned.items() if j not in self.running and j not in self.finished]
         else:
             waiting = [self.remaining_estimate() - sum(est for _, est, _ in self.running.values())]
-        running = [max(0.0, a + v * est - (now - t)) for _, est, t in self.running.values()]
-        waiting = [a + v * e for e in waiting] if self.planned else [v * w for w in waiting]
+        running = [max(0.0, (a if est > 0 else 0.0) + v * est - (now - t)) for _, est, t in self.running.values()]
+        waiting = [(a if e > 0 else 0.0) + v * e for e in waiting] if self.planned else [v * w for w in waiting]
         work = sum(waiting) + sum(running)
         longest = max(waiting + running + [0.0]) if self.planned else 0.0
         return max(work / (self.cores * self.utilisation(now)), longest)
@@ -167,9 +174,9 @@ class BuildProgress:
             self.done_estimate += est
             self.done_measured += now - t
             self.done_timed += 1
-            w, m = 1.0 / max(est, 1.0), now - t
-            for i, x in enumerate((w, w * est, w * est * est, w * m, w * est * m)):
-                self.fit_sums[i] += x
+            if est < SHORT_JOB_S:
+                for i, x in enumerate((1.0, est, now - t)):
+                    self.short_sums[i] += x
         last = self.total and self.done >= self.total
         if not last and now - self.last_report < REPORT_EVERY_S:
             return None
