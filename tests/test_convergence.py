@@ -133,3 +133,23 @@ def test_a_served_tolerance_comes_from_the_finest_rung_not_from_the_value_under_
     status, notes, _ = ladder_verdict(np.array([128.0, 256.0]), members, has, 0, 0.02, 0.03, seeds=seeds,
                                       served=served)
     assert status.startswith("inconclusive") and f"{k} at 256" in status, status
+
+
+def test_a_pass_names_the_distributions_the_ad_test_tells_apart():
+    """Two rungs with the same mean but different spreads (a shape difference the mean misses):
+    the ladder passes on its means and says which distributions the AD test separates."""
+    import numpy as np
+
+    from confined_rod.analysis.figures.convergence import ladder_verdict
+
+    rng = np.random.default_rng(0)
+    narrow = 1.0 + 0.002 * rng.standard_normal(64)
+    wide = np.where(np.arange(64) % 2 == 0, 0.985, 1.015) + 0.0005 * rng.standard_normal(64)
+    members = {"F_transmitted": np.array([wide, narrow]), "helix_balance": np.array([narrow, narrow])}
+    has = np.ones((2, 64), dtype=np.int8)
+    status, _, _ = ladder_verdict(np.array([1.0, 0.5]), members, has, 0, 0.02, 0.03)
+    assert status.startswith("pass"), status
+    assert "Anderson-Darling test tells the rungs' distributions apart at 5 % for F_transmitted" in status
+    same, _, _ = ladder_verdict(np.array([1.0, 0.5]), {k: np.array([narrow, narrow]) for k in members}, has, 0,
+                                0.02, 0.03)
+    assert same.startswith("pass") and "Anderson-Darling" not in same

@@ -430,6 +430,10 @@ def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, iref: i
     return out
 
 
+#: a passing ladder names the deciding quantities whose distributions the AD test tells apart at this level
+AD_ALPHA = 0.05
+
+
 def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: np.ndarray, ipub: int,
                    tol: float, dist_tol: float, seeds: np.ndarray | None = None,
                    served: list[Mapping[str, Any]] | None = None) -> tuple[str, list[str], dict[str, list]]:
@@ -505,7 +509,13 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
                            else "") + ")" for k, c in largest.items())
     states = (f"final states within {100 * dist_tol:g} %" if not served else
               "final states that " + ", ".join(s["name"] for s in served) + " report within their tolerances")
-    return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary})", notes, table
+    shape = sorted({(k, c.p_ad) for k, c, deciding in zip(table["quantity"], table["cmp"], table["deciding"])
+                    if deciding and c.p_ad < AD_ALPHA}, key=lambda kc: kc[1])
+    told = ("" if not shape else
+            f"; the Anderson-Darling test tells the rungs' distributions apart at {100 * AD_ALPHA:g} % for "
+            + ", ".join(f"{k} ({distributions.ad_text(p)})" for k, p in dict(reversed(shape)).items())
+            + ": a difference of shape that the means' tolerance allows")
+    return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary}){told}", notes, table
 
 
 def _aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
