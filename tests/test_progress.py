@@ -22,7 +22,7 @@ def test_time_left_from_the_plan_and_the_measured_speed():
         p.start(j, "simulate", None, now=now)
         now += 16.0
         line = p.finish(j, now=now)
-    assert p.speed(now) == pytest.approx(2.0)
+    assert p.model(now) == pytest.approx((0.0, 2.0))     # no excess per job, twice the estimate
     # one core busy all along, the other idle: utilisation 1/2, so the 4 simulations and 2 figures
     # left (2 x (32 + 6) job-s at the measured speed) take 2 x 38 s / (2 x 1/2)
     assert p.utilisation(now) == pytest.approx(0.5)

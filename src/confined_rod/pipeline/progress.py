@@ -104,14 +104,17 @@ class BuildProgress:
         seen = self.started.get(rule)
         return sum(seen) / len(seen) if seen else RULE_ESTIMATE_S.get(rule, DEFAULT_ESTIMATE_S)
 
+    def _waiting(self) -> list[float]:
+        """The estimates of the jobs not yet started (without a plan: per rule, its count left at
+        the mean of its started jobs)."""
+        if self.planned:
+            return [e for j, (_, e) in self.planned.items() if j not in self.running and j not in self.finished]
+        return [max(0, n - len(self.started.get(r, []))) * self._rule_mean(r) for r, n in self.counts.items()]
+
     def remaining_estimate(self) -> float:
         """Estimated job-seconds of the jobs not yet started and of the running ones (their whole
         estimates: :meth:`wall_left` subtracts what has been run)."""
-        if self.planned:
-            waiting = sum(e for j, (_, e) in self.planned.items() if j not in self.running and j not in self.finished)
-        else:
-            waiting = sum(max(0, n - len(self.started.get(r, []))) * self._rule_mean(r) for r, n in self.counts.items())
-        return waiting + sum(est for _, est, _ in self.running.values())
+        return sum(self._waiting()) + sum(est for _, est, _ in self.running.values())
 
     def model(self, now: float | None = None) -> tuple[float, float]:
         """(a, v): a job estimated at e > 0 seconds takes a + v e on this machine (a job estimated
@@ -133,13 +136,6 @@ class BuildProgress:
         a = max(0.0, (m_short - v * e_short) / n_short) if n_short else 0.0
         return a, v
 
-    def speed(self, now: float | None = None) -> float:
-        """Measured over estimated wall time of a typical finished job (1 before calibration)."""
-        if self.done_timed < CALIBRATE_AFTER or self.done_estimate <= 0:
-            return 1.0
-        a, v = self.model(now)
-        return (a * self.done_timed + v * self.done_estimate) / self.done_estimate
-
     def utilisation(self, now: float) -> float:
         """The share of the cores' time spent in jobs so far (the rest: Snakemake's own work between
         jobs, and cores idle for want of a ready job); 1 until CALIBRATE_AFTER jobs have finished."""
@@ -153,12 +149,9 @@ class BuildProgress:
         """Wall seconds left: the work left at the measured speed over the cores at the measured
         utilisation, at least the longest single job left."""
         a, v = self.model(now)
-        if self.planned:
-            waiting = [e for j, (_, e) in self.planned.items() if j not in self.running and j not in self.finished]
-        else:
-            waiting = [self.remaining_estimate() - sum(est for _, est, _ in self.running.values())]
+        a_job = a if self.planned else 0.0     # without a plan a waiting entry is a rule's jobs, not one job
         running = [max(0.0, (a if est > 0 else 0.0) + v * est - (now - t)) for _, est, t in self.running.values()]
-        waiting = [(a if e > 0 else 0.0) + v * e for e in waiting] if self.planned else [v * w for w in waiting]
+        waiting = [(a_job if e > 0 else 0.0) + v * e for e in self._waiting()]
         work = sum(waiting) + sum(running)
         longest = max(waiting + running + [0.0]) if self.planned else 0.0
         return max(work / (self.cores * self.utilisation(now)), longest)
