@@ -43,17 +43,19 @@ ALL_TARGETS = pipeline.expected_outputs(config)
 # a figure kind's module and what it imports -> its datasets and figures; the styling -> the
 # figures only; claims/ -> the claims and the manuscript. Post-processing never imports the
 # simulator (checked by the import contracts in pyproject.toml).
-# Each closure enters a rule as one stamp file of its modules' checksums (pipeline.code.stamp).
+# Each closure enters a rule as one stamp file of its modules' checksums (pipeline.code.stamp),
+# computed once per part (an input function asks for it once per job).
 _STAMPS = {}
 
 
 def code_stamp(part, modules):
+    """The stamp of ``part``; ``modules()`` gives its modules (called the first time only)."""
     if part not in _STAMPS:
-        _STAMPS[part] = code.stamp(part, modules, layout.code_stamp(part))
+        _STAMPS[part] = code.stamp(part, modules(), layout.code_stamp(part))
     return _STAMPS[part]
 
 
-SIMULATION_CODE = code_stamp("simulation", code.simulation_code())
+SIMULATION_CODE = code_stamp("simulation", code.simulation_code)
 PATH_CODE = SIMULATION_CODE
 
 
@@ -124,12 +126,12 @@ def kind_module(wildcards):
 
 def postprocess_code(wildcards):
     kind = config["figures"][wildcards.figure]["kind"]
-    return code_stamp(f"postprocess-{kind}", code.postprocess_code(kind_module(wildcards)))
+    return code_stamp(f"postprocess-{kind}", lambda: code.postprocess_code(kind_module(wildcards)))
 
 
 def figure_code(wildcards):
     kind = config["figures"][wildcards.figure]["kind"]
-    return code_stamp(f"figure-{kind}", code.figure_code(kind_module(wildcards)))
+    return code_stamp(f"figure-{kind}", lambda: code.figure_code(kind_module(wildcards)))
 
 
 def read_datasets(wildcards):
@@ -175,8 +177,8 @@ def path_priority(wildcards):
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
 PAPER = config.get("paper") or {}
-CLAIMS_CODE = code_stamp("claims", code.claims_code())
-PAPER_CODE = code_stamp("paper", code.paper_code())
+CLAIMS_CODE = code_stamp("claims", code.claims_code)
+PAPER_CODE = code_stamp("paper", code.paper_code)
 CONFIG_NAME = (os.path.relpath(workflow.configfiles[-1], workflow.basedir) if workflow.configfiles
                else "config/config.yaml")
 

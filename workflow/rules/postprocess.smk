@@ -61,7 +61,7 @@ rule error_budget:
         datasets=ALL_TARGETS["datasets"],
         code=lambda wildcards: code_stamp(
             "error_budget",
-            code.budget_code(
+            lambda: code.budget_code(
                 {pipeline.kinds.module_path(config["figures"][f]["kind"]) for f in pipeline.figures(config)}
             ),
         ),

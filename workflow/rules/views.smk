@@ -7,7 +7,7 @@
 # its single-file HTML report refuses report(directory(...)), and a browser shows no embedded page
 # over 2 MB, which plotly.js alone is. So the folder is marked for the report only when the report
 # asked for is a zip; the HTML report names it on its front page (workflow/report/workflow.rst).
-VIEW_CODE = code_stamp("view", code.view_code())
+VIEW_CODE = code_stamp("view", code.view_code)
 VIEWS_IN_REPORT = any(
     (a == "--report" and b.endswith(".zip"))
     or (a.startswith("--report=") and a.endswith(".zip"))
