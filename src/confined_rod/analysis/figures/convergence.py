@@ -509,11 +509,13 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
                            else "") + ")" for k, c in largest.items())
     states = (f"final states within {100 * dist_tol:g} %" if not served else
               "final states that " + ", ".join(s["name"] for s in served) + " report within their tolerances")
-    shape = sorted({(k, c.p_ad) for k, c, deciding in zip(table["quantity"], table["cmp"], table["deciding"])
-                    if deciding and c.p_ad < AD_ALPHA}, key=lambda kc: kc[1])
+    shape: dict[str, float] = {}      # quantity -> its smallest AD p-value below AD_ALPHA
+    for k, c, deciding in zip(table["quantity"], table["cmp"], table["deciding"]):
+        if deciding and c.p_ad < AD_ALPHA:
+            shape[k] = min(c.p_ad, shape.get(k, 1.0))
     told = ("" if not shape else
             f"; the Anderson-Darling test tells the rungs' distributions apart at {100 * AD_ALPHA:g} % for "
-            + ", ".join(f"{k} ({distributions.ad_text(p)})" for k, p in dict(reversed(shape)).items())
+            + ", ".join(f"{k} ({distributions.ad_text(p)})" for k, p in sorted(shape.items(), key=lambda kp: kp[1]))
             + ": a difference of shape that the means' tolerance allows")
     return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary}){told}", notes, table
 
