@@ -67,6 +67,15 @@ def test_validate_names_the_entry_and_the_value():
     with pytest.raises(pipeline.ConfigError, match=r"fig4_Fonl\.scenes\.b: seed = 7"):
         pipeline.validate(bad)
     bad = copy.deepcopy(config)
+    bad["figures"]["fig4_Fonl"]["scenes"]["b"]["l0"] = 0.25  # a panel's own numerics: only the path's
+    with pytest.raises(pipeline.ConfigError, match=r"fig4_Fonl\.scenes\.b.*: l0 = 0\.25 differs .*ramp_steps\)"):
+        pipeline.validate(bad)
+    ramped = copy.deepcopy(config)
+    ramped["figures"]["fig4_Fonl"]["defaults"].update(protocol="ramp", ramp_steps=64)
+    ramped["figures"]["fig4_Fonl"]["scenes"]["b"]["ramp_steps"] = 128
+    pipeline.validate(ramped)  # a panel ramps more slowly: allowed, and named in the caption
+    assert "(b) k_fr = 0.3, ramp_steps = 128" in pipeline.caption(ramped, "fig4_Fonl")
+    bad = copy.deepcopy(config)
     bad["figures"]["fig4_Fonl"]["panel_parameter"] = "friction"
     with pytest.raises(pipeline.ConfigError, match="'friction' is not a Scene field"):
         pipeline.validate(bad)
@@ -269,7 +278,7 @@ def test_a_ladder_serves_only_the_rod_of_its_publication_rung():
     assert served == [{"name": "fig4_Fonl_ramp.a", "seeds": seeds, "reports": ["F_transmitted", "decay_ratio"]}]
     assert pipeline.context(config, "conv_l0")["served"] == []
     for entry, why in (("fig4_Fonl_ramp.b", r"not the rod of this ladder's publication rung \(k_fr 0\.3 against "
-                                            r"0\.1\)"),
+                                            r"0\.1; ramp_steps 256 against 128\)"),
                        ("nope.a", r"is not '<figure>\.<scene>' of another figure"),
                        ("fig4_Fonl_ramp.z", r"figure 'fig4_Fonl_ramp' has no scene 'z' \(scenes: a, b, c\)"),
                        ("fig2_transition.seed0", r"kind 'transition'\) reports no ensemble mean")):

@@ -191,6 +191,7 @@ FIGURE_QUANTITIES = [
     Quantity("transmitted_fraction_shown", "|F_z(L)|/|F_z(0)|", "transmitted fraction of the shown member (lowest "
              "seed)", "1"),
     Quantity("shown_seed", r"\mathrm{seed}", "seed of the member whose profile and fit the panel shows", "1"),
+    Quantity("panel_ramp_steps", r"n_{ramp}", "number of steps of the panel's load ramp", "1"),
     Quantity("fit_c_member", "c", "exponent of our fit to each ensemble member (0 where has_fit_member is 0)", "1"),
     Quantity("has_fit_member", "", "1 where the member has a wall-contact stretch that was fitted", "1"),
     Quantity("fit_c_mean", r"\langle c\rangle", "ensemble mean of the fitted exponent (members whose fit determines "

@@ -55,9 +55,16 @@ ENSEMBLES = True
 REPORTS = ("F_transmitted", "decay_ratio")
 
 
+#: numerics of the loading path a panel may set for itself, each decided by the ladder that
+#: serves the panel (Fig 4(b)'s ramp needs more steps than (a) and (c): conv_ramp_steps_b); the
+#: dataset then stores them per panel and the caption names them
+PANEL_NUMERICS = ("ramp_steps",)
+
+
 def varied(fig_cfg) -> tuple[str, ...]:
     p = fig_cfg.get("panel_parameter")
-    return (p,) if p else ()
+    scenes = [sc for sc in (fig_cfg.get("scenes") or {}).values() if isinstance(sc, dict)]
+    return ((p,) if p else ()) + tuple(k for k in PANEL_NUMERICS if k != p and any(k in sc for sc in scenes))
 
 
 def validate(figure, fig_cfg, built) -> None:
@@ -67,7 +74,8 @@ def validate(figure, fig_cfg, built) -> None:
         raise ConfigError(f"figures.{figure}.panel_parameter: {p!r} is not a Scene field")
     panels = _panels(built)
     same_except(figure, panels, varied(fig_cfg), f"the panels of a force-profile figure differ only in "
-                                                 f"panel_parameter ({p!r})")
+                                                 f"panel_parameter ({p!r}) and the path's numerics "
+                                                 f"({', '.join(PANEL_NUMERICS)})")
     if p and len({getattr(s, p) for s in panels.values()}) != len(panels):
         raise ConfigError(f"figures.{figure}.scenes: two panels have the same {p} value")
     for members in ensembles.by_base(list(built), {n: s.seed for n, s in built.items()}).values():
@@ -88,8 +96,10 @@ def caption(figure, fig_cfg, built) -> str:
     built = _panels(built)
     sc = next(iter(built.values()))
     body = f"Axial force |F_z(s)| along the rod (s from the loaded end), L/R = {sc.L:g}"
+    own = [k for k in varied(fig_cfg) if k != p]
     if p:
         body += ". Panels: " + "; ".join(f"({chr(97 + i)}) {p} = {getattr(s, p):g}"
+                                         + "".join(f", {k} = {getattr(s, k):g}" for k in own)
                                          for i, s in enumerate(built.values())) + "."
     else:
         body += f", k_fr = {sc.k_fr:g}."
@@ -391,6 +401,9 @@ def _build(fig_cfg, sims) -> xr.Dataset:
         pv = [float(sims[n].attrs[p]) for n in names]
         coords["panel_value"] = xr.Variable(("panel",), np.array(pv), attrs={**attrs("panel_value"),
                                             "long_name": f"value of {p} in the panel", "parameter": p})
+    if "ramp_steps" in varied(fig_cfg):
+        data["panel_ramp_steps"] = variable(("panel",), np.array([int(sims[n].attrs["ramp_steps"]) for n in names],
+                                                                 dtype=np.int64), "panel_ramp_steps")
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"panel_parameter": p or "none", "fit_trim": trim,
                      "fit_method": "scipy.optimize.curve_fit, relative residuals (sigma = |F_z|), A > 0, l0' > 0",
