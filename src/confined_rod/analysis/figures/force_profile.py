@@ -401,9 +401,9 @@ def _build(fig_cfg, sims) -> xr.Dataset:
         pv = [float(sims[n].attrs[p]) for n in names]
         coords["panel_value"] = xr.Variable(("panel",), np.array(pv), attrs={**attrs("panel_value"),
                                             "long_name": f"value of {p} in the panel", "parameter": p})
-    if "ramp_steps" in varied(fig_cfg):
-        data["panel_ramp_steps"] = variable(("panel",), np.array([int(sims[n].attrs["ramp_steps"]) for n in names],
-                                                                 dtype=np.int64), "panel_ramp_steps")
+    for k in set(varied(fig_cfg)) & set(PANEL_NUMERICS):
+        data[f"panel_{k}"] = variable(("panel",), np.array([int(sims[n].attrs[k]) for n in names], dtype=np.int64),
+                                      f"panel_{k}")
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({"panel_parameter": p or "none", "fit_trim": trim,
                      "fit_method": "scipy.optimize.curve_fit, relative residuals (sigma = |F_z|), A > 0, l0' > 0",
