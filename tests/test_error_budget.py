@@ -9,10 +9,11 @@ import xarray as xr
 from confined_rod.analysis import error_budget as eb
 
 
-def ladder(parameter, L, shifts, load=0.25, k_fr=0.8, protocol="straight", dof=None):
-    """A convergence dataset as the kind stores it: three rungs, the publication rung in the middle,
-    ``shifts`` = {quantity: (shift, se)} of the publication rung against the finest rung; ``dof``
-    the degrees of freedom of se (None: no cmp_dof variable, the normal limit)."""
+def ladder(parameter, L, shifts, load=0.25, k_fr=0.8, protocol="straight", dof=None, h=(1.0, 0.5, 0.25), pub=1):
+    """A convergence dataset as the kind stores it: three rungs of refinement variable ``h``, the
+    publication rung ``pub`` (the middle one), ``shifts`` = {quantity: (shift, se)} of the
+    publication rung against the finest rung; ``dof`` the degrees of freedom of se (None: no
+    cmp_dof variable, the normal limit)."""
     q = list(shifts)
     shift, se, code = np.zeros((3, len(q))), np.zeros((3, len(q))), np.zeros((3, len(q)), dtype=np.int8)
     for j, k in enumerate(q):
@@ -22,8 +23,11 @@ def ladder(parameter, L, shifts, load=0.25, k_fr=0.8, protocol="straight", dof=N
             "cmp_verdict_code": (("rung", "quantity"), code)}
     if dof is not None:
         data["cmp_dof"] = (("rung", "quantity"), np.full((3, len(q)), float(dof)))
-    ds = xr.Dataset(data, coords={"quantity": ("quantity", np.array(q, dtype=object))})
-    ds.attrs.update(kind="convergence", parameter=parameter, L=L, load=load, k_fr=k_fr, protocol=protocol)
+    values = np.array([2.0 * x for x in h])          # the parameter itself: any function of h will do
+    ds = xr.Dataset(data, coords={"quantity": ("quantity", np.array(q, dtype=object)),
+                                  "h": ("rung", np.array(h)), "value": ("rung", values)})
+    ds.attrs.update(kind="convergence", parameter=parameter, L=L, load=load, k_fr=k_fr, protocol=protocol,
+                    publication_value=float(values[pub]))
     return ds
 
 
@@ -106,6 +110,43 @@ def test_threshold_terms_replace_the_ladders_and_a_missing_statistic_leaves_the_
     assert row(ds, "fig.thr")["limited_by"] == "unknown"
     assert row(ds, "fig.thr")["stat_95_percent"] is None
     assert "not measured" in eb.to_csv(ds)
+
+
+def test_distance_to_the_limit_is_one_over_one_minus_the_refinement_ratio_at_first_order():
+    """f(h) = f* + a h: a publication rung at h_pub, a finest rung at h_fine; its shift from the
+    finest rung is a (h_pub - h_fine) and its distance from the limit a h_pub, their ratio
+    1/(1 - h_fine/h_pub): 2 for one halving, 4/3 for two (module docstring). The manuscript names
+    each factor with the ladders it applies to."""
+    from confined_rod.claims import manuscript
+
+    a, h_pub = 0.3, 0.02
+    for h_fine, expect in ((0.01, 2.0), (0.005, 4.0 / 3.0)):
+        shift = a * (h_pub - h_fine)
+        assert shift * eb.first_order_limit_factor(h_pub, h_fine) == pytest.approx(a * h_pub, rel=1e-12)
+        assert eb.first_order_limit_factor(h_pub, h_fine) == pytest.approx(expect, rel=1e-12)
+    assert eb.first_order_limit_factor(0.5, 0.5) == 1.0
+    with pytest.raises(ValueError, match="h_fine = 1.0"):
+        eb.first_order_limit_factor(0.5, 1.0)
+    lads = {"conv_l0": ladder("l0", 80, {"F_transmitted": (-0.016, 0.0056)}, h=(1.0, 0.5, 0.125)),
+            "conv_ramp": ladder("ramp_steps", 320, {"F_transmitted": (0.01, 0.004)}, protocol="ramp",
+                                h=(1 / 128, 1 / 256, 1 / 512))}
+    ds = budget([headline(protocol="ramp")], lads)
+    p = list(ds["budget_parameter"].values)
+    assert ds["bias_limit_factor"].values[0, p.index("l0")] == pytest.approx(4.0 / 3.0)
+    assert ds["bias_limit_factor"].values[0, p.index("ramp_steps")] == pytest.approx(2.0)
+    assert ds["bias_limit_factor"].values[0, p.index("k_ph")] == 1.0       # not measured
+    text = manuscript._limit_factors_tex(ds)
+    assert "1.33 for l0" in text and "2 for ramp\\_steps" in text, text
+
+
+def test_a_number_without_a_measured_bias_is_limited_by_the_unknown():
+    """A share of seeds (Fig 2's defects) with a statistical error but no ladder for its
+    quantity: its bias bound is 0 because nothing was measured, not because it is small."""
+    share = eb.Headline("fig.share", "fig", "share of seeds with a defect", 0.5, 0.12, 10, "defect_share",
+                        80.0, 0.25, 0.8, dof=math.inf)
+    ds = budget([share], {"conv_l0": ladder("l0", 80, {"F_transmitted": (-0.016, 0.0056)})})
+    assert ds["has_bias"].values[0].sum() == 0
+    assert row(ds, "fig.share")["limited_by"] == "unknown"
 
 
 def test_two_numbers_with_one_key_are_refused():

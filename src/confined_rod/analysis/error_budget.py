@@ -28,11 +28,13 @@ other rods for most numbers), and only their measurement errors, independent lad
 quadrature; t is the largest Student's quantile of the terms (paired seeds less one). It is set
 beside the statistical 95 %
 half-width t sd/sqrt(n) (n - 1 degrees of freedom; a share of seeds has its Wilson interval):
-the larger one limits the number. Two caveats the table states: the shift is measured to the
-finest rung, not to the limit (for a term of order p on a ladder halving h twice down to its
-finest rung the distance to the limit is 1/(1 - 4^-p) times it: 4/3 at first order); and a shift
-measured at another rod than the number's (another L, friction or load) is *transferred*, flagged
-per term (``bias_transferred``).
+the larger one limits the number, and a number none of whose bias terms was measured is limited
+by what is not known ("unknown"), however small its statistical error. Two caveats the table
+states: the shift is measured to the finest rung, not to the limit: for a term of order p,
+f(h) = f* + a h^p, the publication rung h_pub sits 1/(1 - (h_fine/h_pub)^p) times the shift from
+the limit, 1/(1 - h_fine/h_pub) at first order (``bias_limit_factor``: 4/3 for a ladder whose
+finest rung is two halvings finer, 2 for one); and a shift measured at another rod than the
+number's (another L, friction or load) is *transferred*, flagged per term (``bias_transferred``).
 
 The headlines come from the figure kinds (an optional ``headlines(figure, ds)`` in a kind module,
 returning :class:`Headline` objects); the ladders are every dataset of kind ``convergence`` with
@@ -109,6 +111,9 @@ class Ladder:
     #: quantity -> (relative shift of the publication rung from the finest, its standard error,
     #: the degrees of freedom of that error)
     shifts: Mapping[str, tuple[float, float, float]]
+    #: distance of the publication rung from the limit over its shift from the finest rung, for a
+    #: first-order term: 1/(1 - h_fine/h_pub) (module docstring)
+    limit_factor: float = 1.0
 
 
 def bias_bound(bias: np.ndarray, se: np.ndarray, t: np.ndarray, has: np.ndarray) -> float:
@@ -137,9 +142,22 @@ def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
                 shifts[str(k)] = (float(ds["cmp_shift"].values[finest, q]),
                                   float(ds["cmp_shift_se"].values[finest, q]), dof if dof > 0 else math.inf)
         a = ds.attrs
+        h, values = ds["h"].values, ds["value"].values
+        ipub = int(np.flatnonzero(np.isclose(values, float(a["publication_value"]), rtol=1e-9))[0])
         out.append(Ladder(name, str(a["parameter"]), float(a["L"]), float(a["load"]), float(a["k_fr"]),
-                          str(a.get("protocol", "straight")), shifts))
+                          str(a.get("protocol", "straight")), shifts,
+                          limit_factor=first_order_limit_factor(float(h[ipub]), float(h[finest]))))
     return out
+
+
+def first_order_limit_factor(h_pub: float, h_fine: float) -> float:
+    """1/(1 - h_fine/h_pub): how many times its shift from the finest rung (refinement variable
+    h_fine) a first-order term of the publication rung (h_pub) sits from the limit h -> 0; 1 where
+    the publication rung is the finest (no shift measured)."""
+    if not 0.0 < h_fine <= h_pub:
+        raise ValueError(f"first_order_limit_factor needs 0 < h_fine <= h_pub, got h_fine = {h_fine!r}, "
+                         f"h_pub = {h_pub!r}")
+    return 1.0 if h_fine == h_pub else 1.0 / (1.0 - h_fine / h_pub)
 
 
 def _same(x: float, y: float) -> bool:
@@ -176,7 +194,7 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
     ladders = ladders_of(datasets)
     H, P = len(heads), len(PARAMETERS)
     bias, bias_se, has_bias = np.zeros((H, P)), np.zeros((H, P)), np.zeros((H, P), dtype=np.int8)
-    bias_t, moved = np.full((H, P), Z95), np.zeros((H, P), dtype=np.int8)
+    bias_t, moved, to_limit = np.full((H, P), Z95), np.zeros((H, P), dtype=np.int8), np.ones((H, P))
     source = np.full((H, P), "", dtype=object)
     value, stat, has_stat, stat_t = np.zeros(H), np.zeros(H), np.zeros(H, dtype=np.int8), np.full(H, Z95)
     bound, limited = np.zeros(H), np.zeros(H, dtype=np.int8)
@@ -193,13 +211,13 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
             lad = match(h, name, ladders) if name in LADDER_PARAMETERS else None
             if lad is not None:
                 bias[i, p], bias_se[i, p], dof = lad.shifts[h.quantity]
-                bias_t[i, p] = t_quantiles(dof)[0]
+                bias_t[i, p], to_limit[i, p] = t_quantiles(dof)[0], lad.limit_factor
                 has_bias[i, p] = 1
                 moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
                 source[i, p] = (f"{lad.name} (L/R = {lad.L:g}, k_fr = {lad.k_fr:g}, load = {lad.load:g}"
                                 + ("; transferred)" if moved[i, p] else ")"))
         bound[i] = bias_bound(bias[i], bias_se[i], bias_t[i], has_bias[i])
-        limited[i] = LIMITED_BY.index("unknown" if not has_stat[i] else
+        limited[i] = LIMITED_BY.index("unknown" if not has_stat[i] or not has_bias[i].any() else
                                       "numerics" if bound[i] > stat_t[i] * stat[i] else "statistics")
     coords = {"headline": variable(("headline",), np.array([h.key for h in heads], dtype=object), "headline"),
               "budget_parameter": variable(("budget_parameter",), np.array(PARAMETERS, dtype=object),
@@ -224,6 +242,7 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
         "bias_source": variable(("headline", "budget_parameter"), source, "bias_source"),
         "bias_factor": variable(("headline", "budget_parameter"), bias_t, "bias_factor"),
         "bias_transferred": variable(("headline", "budget_parameter"), moved, "bias_transferred"),
+        "bias_limit_factor": variable(("headline", "budget_parameter"), to_limit, "bias_limit_factor"),
         "bias_bound": variable(("headline",), bound, "bias_bound"),
         "limited_by": variable(("headline",), limited, "limited_by"),
     }

@@ -347,6 +347,9 @@ FIGURE_QUANTITIES = [
              "ladder comparison's degrees of freedom", "1"),
     Quantity("bias_transferred", "", "the bias term was measured at another rod (L, k_fr or load) than the "
              "headline's and transferred as a relative shift (1) or at the headline's rod (0)", "1"),
+    Quantity("bias_limit_factor", "", "distance of the publication numerics from the limit over the bias term "
+             "(their shift from the ladder's finest rung) for a first-order term, 1/(1 - h_fine/h_pub); 1 where no "
+             "ladder measured the term", "1"),
     Quantity("bias_source", "", "where the bias was measured (ladder and its rod) or how it is known", "1"),
     Quantity("bias_bound", r"B_{95}", "95 % bound of the relative numerical bias: sum over the parameters of "
              "|delta_p|, plus t (the largest bias_factor) times the root sum of squares of sigma_p", "1"),

@@ -689,20 +689,42 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
                  rf"\texttt{{{tex_escape(layout.ERROR_BUDGET_CSV)}}}): the statistical error is the 95\,\% "
                  r"half-width $t\,\sigma$ of the mean over $n$ seeds, $\sigma$ its standard error and $t$ Student's "
                  r"quantile for $n-1$ degrees of freedom (4.3 for $n = 3$, 2.8 for $n = 5$; a share of seeds: its "
-                 r"Wilson interval); the numerical bias is the 95\,\% bound $\sqrt{\sum_p(|\delta_p| + "
-                 r"t_p\sigma_p)^2}$ over the numerical parameters $p$, $\delta_p \pm \sigma_p$ the shift of the "
+                 r"Wilson interval); the numerical bias is the 95\,\% bound $\sum_p|\delta_p| + t\,(\sum_p "
+                 r"\sigma_p^2)^{1/2}$ over the numerical parameters $p$ (a bias is not random: the magnitudes add, "
+                 r"their measurement errors in quadrature, $t$ the largest of their Student's quantiles), "
+                 r"$\delta_p \pm \sigma_p$ the shift of the "
                  r"publication rung's mean from the finest rung of the ladder over $p$ (Table~\ref{tab:convergence}; "
-                 r"the distance to the limit is larger, 4/3 of it for a first-order term on a ladder halving twice), "
+                 r"the distance to the limit is larger" + _limit_factors_tex(ds) + "), "
                  r"or for a threshold half its bisection bracket and the discretisation of the discrete chain's Euler "
                  r"load. The largest term is given with its standard error; \dag: measured at another rod (length, "
                  r"friction or load; the ladder's rod is in the table's CSV) and transferred to the number's as a "
-                 r"relative shift. The larger of the two errors limits the number."
+                 r"relative shift. The larger of the two errors limits the number; a number with no bias term "
+                 r"measured is limited by what is unknown."
                  + (r" none*: one frictionless run, whose equilibrium is unique, so no seed spread." if deterministic
                     else "") + r"}\label{tab:budget}" "\n" r"\scriptsize" "\n"
                  r"\begin{tabular}{@{}lp{0.27\linewidth}llllp{0.22\linewidth}l@{}}\hline" "\n"
                  r"figure & number & value & $n$ & statistics & numerics & largest bias term & limited by \\"
                  r" \hline" "\n" + "\n".join(lines) + "\n" r"\hline\end{tabular}\end{table*}")
     macros.raw.append(r"\newcommand{\errorbudgettable}{" + table + "}")
+
+
+def _limit_factors_tex(ds: xr.Dataset | None) -> str:
+    """', at first order 1/(1 - h_fine/h_pub) times the shift: 1.33 for l0, k_ph, ... and 2 for
+    ramp_steps' (analysis.error_budget, bias_limit_factor), over the terms the budget measured."""
+    if ds is None or "bias_limit_factor" not in ds:
+        return ""
+    by: dict[str, set[str]] = {}
+    params = [str(p) for p in ds["budget_parameter"].values]
+    for i in range(ds.sizes["headline"]):
+        for p, name in enumerate(params):
+            if ds["has_bias"].values[i, p] and name not in ("bracket", "discretisation"):
+                by.setdefault(f"{float(ds['bias_limit_factor'].values[i, p]):.3g}", set()).add(name)
+    if not by:
+        return ""
+    parts = [f"{f} for {', '.join(tex_escape(n) for n in sorted(names, key=params.index))}"
+             for f, names in sorted(by.items(), key=lambda kv: float(kv[0]))]
+    return (r", at first order $1/(1 - h_{\rm fine}/h_{\rm pub})$ times the shift: "
+            + (" and ".join(parts) if len(parts) < 3 else ", ".join(parts[:-1]) + " and " + parts[-1]))
 
 
 #: the plain-text units and symbols of the budget's labels (analysis.figures.*.headlines), as LaTeX
