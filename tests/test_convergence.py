@@ -34,7 +34,12 @@ def test_richardson_flags_non_monotone_and_non_geometric_ladders():
     # noise below the resolved level counts as converged, not as non-monotone
     p, lim, note = studies.richardson(np.array([1.0, 0.5, 0.25]), np.array([1.0, 1.0 + 1e-6, 1.0 - 1e-6]),
                                       resolved=1e-5)
-    assert "converged" in note and lim == 1.0 - 1e-6
+    assert "converged" in note and lim == 1.0 - 1e-6 and p == 0.0
+    # converged differences that still shrink as h^2 report their order, the finest value as limit
+    h = np.array([1.0, 0.5, 0.25])
+    p, lim, note = studies.richardson(h, 3.0 + 1e-7 * h**2, resolved=1e-5)
+    assert p == pytest.approx(2.0, rel=1e-6) and lim == 3.0 + 1e-7 * 0.25**2
+    assert "converged; observed order 2.00" in note
 
 
 def ladder(F_of_h, turns=(2.0, 2.0, 2.0), pub=1.0, tol=0.05, unsettled=None):

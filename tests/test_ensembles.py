@@ -81,7 +81,8 @@ def _sim(L, seed, F, turns=2.0):
          "dphi_ds": ("s_helix", np.full(n, 0.3)), "converged": np.int8(1), "escaped": np.int8(0),
          "residual_force": 1e-6, "wall_time": 1.0}
     ).assign_coords(s_helix=("s_helix", np.linspace(0, L, n))).assign_attrs(
-        {"L": L, "pore_length": L, "seed": seed, "load": 0.25, "k_fr": 0.8, "R": 1.0, "EI": 1.0})
+        {"L": L, "pore_length": L, "seed": seed, "load": 0.25, "k_fr": 0.8, "R": 1.0, "EI": 1.0, "tol": 1e-4,
+         "tol_effective": 1e-4})
 
 
 def test_ensemble_dataset_holds_members_and_statistics():

@@ -23,7 +23,7 @@ def ladder(parameter, L, shifts, load=0.25, k_fr=0.8, protocol="straight", dof=N
             "cmp_verdict_code": (("rung", "quantity"), code)}
     if dof is not None:
         data["cmp_dof"] = (("rung", "quantity"), np.full((3, len(q)), float(dof)))
-    values = np.array([2.0 * x for x in h])          # the parameter itself: any function of h will do
+    values = np.array(h)      # the parameter's value: h itself for l0, tol and dx_max, 1/h otherwise
     ds = xr.Dataset(data, coords={"quantity": ("quantity", np.array(q, dtype=object)),
                                   "h": ("rung", np.array(h)), "value": ("rung", values)})
     ds.attrs.update(kind="convergence", parameter=parameter, L=L, load=load, k_fr=k_fr, protocol=protocol,
@@ -139,6 +139,24 @@ def test_distance_to_the_limit_is_one_over_one_minus_the_refinement_ratio_at_fir
     assert "1.33 for l0" in text and "2 for ramp\\_steps" in text, text
 
 
+def test_a_ladder_covers_a_number_only_at_numerics_as_fine_as_its_publication_rung():
+    """conv_tol measured tol 1e-4 (publication) against 1e-6: it bounds a number computed at
+    tol_eff = 1e-4 or finer, not one whose round-off floor forced tol_eff = 6e-4 (Fig 7's small
+    load): that term is not measured, and says why."""
+    lad = {"conv_tol": ladder("tol", 80, {"F_transmitted": (0.002, 0.001)}, h=(1e-3, 1e-4, 1e-6))}
+    fine = eb.Headline("fig.fine", "fig", "fine", 0.1, 0.002, 5, "F_transmitted", 320.0, 0.25, 0.8,
+                       numerics={"tol": 1e-4})
+    coarse = eb.Headline("fig.coarse", "fig", "coarse", 0.1, 0.002, 5, "F_transmitted", 320.0, 0.0125, 0.8,
+                         numerics={"tol": 1.2e-3})
+    ds = budget([fine, coarse], lad)
+    p = list(ds["budget_parameter"].values).index("tol")
+    heads = list(ds["headline"].values)
+    assert ds["has_bias"].values[heads.index("fig.fine"), p] == 1
+    assert ds["has_bias"].values[heads.index("fig.coarse"), p] == 0
+    assert "not covered" in str(ds["bias_source"].values[heads.index("fig.coarse"), p])
+    assert "tol" in row(ds, "fig.coarse")["not_measured"].split()
+
+
 def test_a_number_without_a_measured_bias_is_limited_by_the_unknown():
     """A share of seeds (Fig 2's defects) with a statistical error but no ladder for its
     quantity: its bias bound is 0 because nothing was measured, not because it is small."""
@@ -182,6 +200,7 @@ def test_transmitted_force_headlines_are_the_fraction_with_the_standard_error_of
     assert h.value == pytest.approx(0.11 / 0.25, rel=1e-12)
     assert h.stat_error == pytest.approx(np.std([0.10, 0.12, 0.11], ddof=1) / np.sqrt(3) / 0.25, rel=1e-12)
     assert (h.n_seeds, h.quantity, h.L, h.k_fr) == (3, "F_transmitted", 20.0, 0.8)
+    assert h.numerics == {"tol": 1e-4}      # the effective tolerance its members ran at
 
 
 def test_force_profile_headlines_give_the_decay_rate_over_the_simple_model():

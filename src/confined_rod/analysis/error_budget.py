@@ -17,6 +17,10 @@ nature:
   rate). A ladder is measured at one rod; its relative shift is taken to hold for the headline's
   rod (the dx_max ladder nearest in L, the ramp ladder of the same friction and load, the l0,
   k_ph, k_w, k_t and tol ladders at L/R = 80): the table names where each shift was measured.
+  A ladder covers a number only if the number ran at numerics at least as fine as the ladder's
+  publication rung (``Headline.numerics``): a long rod or a small load whose round-off floor
+  raised its effective tolerance above the tol ladder's publication rung has no measured tol
+  term, and the table says so.
   For a threshold, the bisection's bracket (half its width) and the discretisation of the Euler
   load of the discrete chain, (sin x/x)^2 - 1 with x = pi l0/(2 lambda) for a buckling half-wave
   of length lambda (L for the first threshold, L/2 for the second, the free span for an escape
@@ -80,6 +84,10 @@ class Headline:
     #: relative bias terms known without a ladder (THRESHOLD_TERMS), as (value, why)
     terms: Mapping[str, tuple[float, str]] = field(default_factory=dict)
     note: str = ""
+    #: the numerical parameters the number was computed at, where they may differ from a ladder's
+    #: publication rung (tol: the effective tolerance, the round-off floor of a long rod or a small
+    #: load); a ladder covers the number only if the number's value is at least as fine
+    numerics: Mapping[str, float] = field(default_factory=dict)
     #: degrees of freedom of stat_error: None for n_seeds - 1 (a mean over seeds); inf where
     #: stat_error is already the 95 % half-width over Z95 (a Wilson interval)
     dof: float | None = None
@@ -114,6 +122,8 @@ class Ladder:
     #: distance of the publication rung from the limit over its shift from the finest rung, for a
     #: first-order term: 1/(1 - h_fine/h_pub) (module docstring)
     limit_factor: float = 1.0
+    #: the refinement variable h of the publication rung (analysis.figures.convergence.REFINEMENT)
+    h_pub: float = math.nan
 
 
 def bias_bound(bias: np.ndarray, se: np.ndarray, t: np.ndarray, has: np.ndarray) -> float:
@@ -146,7 +156,8 @@ def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
         ipub = int(np.flatnonzero(np.isclose(values, float(a["publication_value"]), rtol=1e-9))[0])
         out.append(Ladder(name, str(a["parameter"]), float(a["L"]), float(a["load"]), float(a["k_fr"]),
                           str(a.get("protocol", "straight")), shifts,
-                          limit_factor=first_order_limit_factor(float(h[ipub]), float(h[finest]))))
+                          limit_factor=first_order_limit_factor(float(h[ipub]), float(h[finest])),
+                          h_pub=float(h[ipub])))
     return out
 
 
@@ -183,6 +194,21 @@ def match(h: Headline, parameter: str, ladders: Iterable[Ladder]) -> Ladder | No
     return min(cands, key=lambda x: (abs(math.log(x.L / h.L)), x.name))
 
 
+def uncovered(h: Headline, lad: Ladder) -> str:
+    """Why the ladder's shift does not bound the number's bias ('' where it does): the number was
+    computed at a coarser value of the ladder's parameter than its publication rung (h larger),
+    outside what the ladder measured."""
+    if lad.parameter not in h.numerics or not math.isfinite(lad.h_pub):
+        return ""
+    from .figures.convergence import REFINEMENT
+
+    v = float(h.numerics[lad.parameter])
+    if REFINEMENT[lad.parameter][1](v) <= lad.h_pub * (1.0 + 1e-9):
+        return ""
+    return (f"{lad.name} measured {lad.parameter} down from its publication rung; the number ran at {v:.3g}, "
+            "coarser: not covered")
+
+
 def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Dataset], list[Headline]]) -> xr.Dataset:
     """The budget dataset: one row per headline of the datasets (``headlines_of(figure, ds)``),
     its statistical error and its bias per numerical parameter (module docstring)."""
@@ -209,7 +235,9 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
                 has_bias[i, p] = 1
                 continue
             lad = match(h, name, ladders) if name in LADDER_PARAMETERS else None
-            if lad is not None:
+            if lad is not None and uncovered(h, lad):
+                source[i, p] = uncovered(h, lad)
+            elif lad is not None:
                 bias[i, p], bias_se[i, p], dof = lad.shifts[h.quantity]
                 bias_t[i, p], to_limit[i, p] = t_quantiles(dof)[0], lad.limit_factor
                 has_bias[i, p] = 1

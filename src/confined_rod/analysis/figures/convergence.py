@@ -178,9 +178,9 @@ def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[flo
     """(observed order, limit, note) from the three finest rungs (h descending).
 
     ``resolved``: differences below this (absolute) are taken as converged: the
-    finest value is the limit and the order is not measurable (reported as 0).
-    Without it, noise at the level of the equilibrium tolerance would make a
-    converged ladder look non-monotone."""
+    finest value is the limit, and the order is reported where the differences still shrink
+    monotonically (else 0: not measurable). Without it, noise at the level of the equilibrium
+    tolerance would make a converged ladder look non-monotone."""
     h1, h2, h3 = h[-3:]
     f1, f2, f3 = f[-3:]
     r = h1 / h2
@@ -189,9 +189,11 @@ def richardson(h: np.ndarray, f: np.ndarray, resolved: float = 0.0) -> tuple[flo
     d1, d2 = f1 - f2, f2 - f3
     if d2 == 0.0:
         return 0.0, float(f3), "converged to round-off"
-    if max(abs(d1), abs(d2)) <= resolved:
-        return 0.0, float(f3), "finest differences below a tenth of the tolerance (converged)"
     q = d1 / d2
+    if max(abs(d1), abs(d2)) <= resolved:
+        p = math.log(q) / math.log(r) if q > 1.0 else 0.0
+        return p, float(f3), ("finest differences below a tenth of the tolerance (converged"
+                              + (f"; observed order {p:.2f})" if p > 0 else ")"))
     if q <= 1.0:
         return 0.0, float(f3), "differences do not shrink monotonically (no asymptotic range)"
     p = math.log(q) / math.log(r)
@@ -800,8 +802,12 @@ def plot(ds: xr.Dataset):
         if lim is not None:
             ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else "Richardson limit")
             if not described:
+                # the band never sets the axes: a tolerance much wider than the rungs' spread would
+                # squash them onto one line (a band filling the panel: every rung is inside it)
+                y0, y1 = ax.get_ylim()
                 ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
                            label=rf"{'finest' if ensemble else 'limit'} $\pm$ tolerance")
+                ax.set_ylim(min(y0, lim), max(y1, lim))
         if ensemble:
             q = list(ds["quantity"].values).index(k)
             codes = ds["cmp_verdict_code"].values[:, q]

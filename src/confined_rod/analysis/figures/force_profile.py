@@ -438,11 +438,13 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
             return float(ds.attrs[k]) if k in ds.attrs else float(ds[k].values[i])
         L, load, k_fr = par("L"), par("load"), par("k_fr")
         n = int(ds["n_seeds"].values[i])
+        numerics = {"tol": float(ds["tol_effective"].values[i])} if "tol_effective" in ds else {}
         tag = f"{where}panel {panel}" if ds.sizes["panel"] > 1 else f"{where}L/R = {L:g}".rstrip(", ")
         out.append(Headline(f"{figure}.fraction.{panel}", figure, f"F(L)/F0, {tag}",
                             float(ds["transmitted_fraction"].values[i]),
                             float(ds["fraction_sem"].values[i]) if n > 1 else None, n, "F_transmitted", L, load, k_fr,
-                            protocol, note="ensemble mean over seeds; statistical error sd/sqrt(n)"))
+                            protocol, note="ensemble mean over seeds; statistical error sd/sqrt(n)",
+                            numerics=numerics))
         nb = int(ds["has_bulk_member"].values[i].sum())
         model = float(ds["decay_rate_model"].values[i])
         if nb and k_fr > 0 and model > 0:
@@ -451,7 +453,8 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
                                 float(ds["bulk_decay_rate_mean"].values[i]) / model,
                                 float(ds["bulk_decay_rate_std"].values[i]) / model / np.sqrt(nb) if nb > 1 else None,
                                 nb, "decay_ratio", L, load, k_fr, protocol,
-                                note="mean over the seeds with a bulk helix; statistical error sd/sqrt(n)"))
+                                note="mean over the seeds with a bulk helix; statistical error sd/sqrt(n)",
+                                numerics=numerics))
     return out
 
 

@@ -83,6 +83,7 @@ def _build(names, sims) -> xr.Dataset:
         "n_turns": col("n_turns", n_turns),
         "residual_force": col("residual_force", lambda d: float(d["residual_force"])),
         "wall_time": col("wall_time", lambda d: float(d["wall_time"])),
+        "tol_effective": col("tol_effective", lambda d: float(d.attrs.get("tol_effective", d.attrs["tol"]))),
         "F_simple": variable(("L_model",), theory.force_decay(L_model, load, k_fr, R, EI), "F_simple"),
         "F_simple_paper": variable(("L_model",), theory.force_decay(L_model, load, k_fr, R, EI, paper=True),
                                    "F_simple_paper"),
@@ -116,6 +117,8 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
     ds["residual_force"] = variable(("L",), members(lambda d: float(d["residual_force"])).max(axis=1),
                                     "residual_force")
     ds["wall_time"] = variable(("L",), members(lambda d: float(d["wall_time"])).sum(axis=1), "wall_time")
+    ds["tol_effective"] = variable(("L",), members(lambda d: float(d.attrs.get("tol_effective", d.attrs["tol"])))
+                                   .max(axis=1), "tol_effective")
     ds["F_member"] = variable(("L", "member"), F, "F_member")
     ds["member_seed"] = variable(("L", "member"), members(lambda d: float(d.attrs["seed"])).astype(np.int64),
                                  "member_seed")
@@ -164,7 +167,8 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
             f"{figure}.fraction.L{L:g}", figure, f"F(L)/F0, L/R = {L:g}", float(ds["F_transmitted"].values[i]) / load,
             float(ds["F_sem"].values[i]) / load if ensemble and int(ds["n_seeds"].values[i]) > 1 else None,
             int(ds["n_seeds"].values[i]) if ensemble else 1, "F_transmitted", float(L), load, k_fr, protocol,
-            note="ensemble mean over seeds; statistical error sd/sqrt(n)"))
+            note="ensemble mean over seeds; statistical error sd/sqrt(n)",
+            numerics={"tol": float(ds["tol_effective"].values[i])} if "tol_effective" in ds else {}))
     return out
 
 
