@@ -139,22 +139,35 @@ def test_distance_to_the_limit_is_one_over_one_minus_the_refinement_ratio_at_fir
     assert "1.33 for l0" in text and "2 for ramp\\_steps" in text, text
 
 
-def test_a_ladder_covers_a_number_only_at_numerics_as_fine_as_its_publication_rung():
-    """conv_tol measured tol 1e-4 (publication) against 1e-6: it bounds a number computed at
-    tol_eff = 1e-4 or finer, not one whose round-off floor forced tol_eff = 6e-4 (Fig 7's small
-    load): that term is not measured, and says why."""
-    lad = {"conv_tol": ladder("tol", 80, {"F_transmitted": (0.002, 0.001)}, h=(1e-3, 1e-4, 1e-6))}
-    fine = eb.Headline("fig.fine", "fig", "fine", 0.1, 0.002, 5, "F_transmitted", 320.0, 0.25, 0.8,
-                       numerics={"tol": 1e-4})
-    coarse = eb.Headline("fig.coarse", "fig", "coarse", 0.1, 0.002, 5, "F_transmitted", 320.0, 0.0125, 0.8,
-                         numerics={"tol": 1.2e-3})
-    ds = budget([fine, coarse], lad)
+def test_a_number_at_coarser_numerics_reads_the_rung_that_covers_it():
+    """conv_tol with rungs 1e-3, 1e-4 (publication) and 1e-6, members shifted by +1 % and +0.2 %
+    from the finest seed by seed: a number at tol_eff = 1e-4 reads the publication rung's stored
+    shift; one whose round-off floor forced tol_eff = 5.8e-4 (Fig 7's small load) the 1e-3 rung's
+    +1 % (paired over the seeds); one at 2e-3, coarser than every rung, has no tol term and says
+    why."""
+    rng = np.random.default_rng(3)
+    base = 0.1 * (1.0 + 0.05 * rng.standard_normal(12))
+    lad = ladder("tol", 80, {"F_transmitted": (0.002, 0.0001)}, h=(1e-3, 1e-4, 1e-6))
+    members = np.array([base * 1.01, base * 1.002, base])
+    lad["F_transmitted_member"] = (("rung", "member"), members)
+    lad["F_transmitted_has"] = (("rung", "member"), np.ones(members.shape, dtype=np.int8))
+    lad["member_seed"] = (("rung", "member"), np.tile(np.arange(12), (3, 1)))
+
+    def head(key, tol):
+        return eb.Headline(key, "fig", key, 0.1, 0.002, 5, "F_transmitted", 320.0, 0.0125, 0.8,
+                           numerics={"tol": tol})
+    ds = budget([head("fig.pub", 1e-4), head("fig.floor", 5.8e-4), head("fig.beyond", 2e-3)], {"conv_tol": lad})
     p = list(ds["budget_parameter"].values).index("tol")
     heads = list(ds["headline"].values)
-    assert ds["has_bias"].values[heads.index("fig.fine"), p] == 1
-    assert ds["has_bias"].values[heads.index("fig.coarse"), p] == 0
-    assert "not covered" in str(ds["bias_source"].values[heads.index("fig.coarse"), p])
-    assert "tol" in row(ds, "fig.coarse")["not_measured"].split()
+    at = {k: heads.index(k) for k in heads}
+    assert ds["bias"].values[at["fig.pub"], p] == pytest.approx(0.002)
+    assert ds["bias"].values[at["fig.floor"], p] == pytest.approx(0.01, rel=1e-9)
+    assert ds["bias_se"].values[at["fig.floor"], p] == pytest.approx(0.0, abs=1e-12)   # the same factor per seed
+    assert ds["bias_limit_factor"].values[at["fig.floor"], p] == pytest.approx(1.0 / (1.0 - 1e-3))
+    assert "rung 0.001 against the finest" in str(ds["bias_source"].values[at["fig.floor"], p])
+    assert ds["has_bias"].values[at["fig.beyond"], p] == 0
+    assert "not covered" in str(ds["bias_source"].values[at["fig.beyond"], p])
+    assert "tol" in row(ds, "fig.beyond")["not_measured"].split()
 
 
 def test_a_number_without_a_measured_bias_is_limited_by_the_unknown():

@@ -17,10 +17,11 @@ nature:
   rate). A ladder is measured at one rod; its relative shift is taken to hold for the headline's
   rod (the dx_max ladder nearest in L, the ramp ladder of the same friction and load, the l0,
   k_ph, k_w, k_t and tol ladders at L/R = 80): the table names where each shift was measured.
-  A ladder covers a number only if the number ran at numerics at least as fine as the ladder's
-  publication rung (``Headline.numerics``): a long rod or a small load whose round-off floor
-  raised its effective tolerance above the tol ladder's publication rung has no measured tol
-  term, and the table says so.
+  A number that ran at coarser numerics than the ladder's publication rung (``Headline.numerics``:
+  a long rod or a small load whose round-off floor raised its effective tolerance above the tol
+  ladder's publication rung) reads the shift of the finest rung at least as coarse as it, from
+  the finest rung (a bound where the bias grows with h); with no rung that coarse its term is
+  not measured, and the table says so.
   For a threshold, the bisection's bracket (half its width) and the discretisation of the Euler
   load of the discrete chain, (sin x/x)^2 - 1 with x = pi l0/(2 lambda) for a buckling half-wave
   of length lambda (L for the first threshold, L/2 for the second, the free span for an escape
@@ -124,6 +125,10 @@ class Ladder:
     limit_factor: float = 1.0
     #: the refinement variable h of the publication rung (analysis.figures.convergence.REFINEMENT)
     h_pub: float = math.nan
+    #: the rungs coarser than the publication one: (h, value, {quantity: (shift from the finest
+    #: rung, its standard error, degrees of freedom)}, first-order limit factor), paired seed by seed
+    #: from the members the dataset stores; they bound a number computed at coarser numerics
+    coarser: tuple = ()
 
 
 def bias_bound(bias: np.ndarray, se: np.ndarray, t: np.ndarray, has: np.ndarray) -> float:
@@ -154,10 +159,36 @@ def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
         a = ds.attrs
         h, values = ds["h"].values, ds["value"].values
         ipub = int(np.flatnonzero(np.isclose(values, float(a["publication_value"]), rtol=1e-9))[0])
+        coarser = tuple((float(h[i]), float(values[i]), _shifts_to_finest(ds, i, list(shifts)),
+                         first_order_limit_factor(float(h[i]), float(h[finest]))) for i in range(ipub))
         out.append(Ladder(name, str(a["parameter"]), float(a["L"]), float(a["load"]), float(a["k_fr"]),
                           str(a.get("protocol", "straight")), shifts,
                           limit_factor=first_order_limit_factor(float(h[ipub]), float(h[finest])),
-                          h_pub=float(h[ipub])))
+                          h_pub=float(h[ipub]), coarser=coarser))
+    return out
+
+
+def _shifts_to_finest(ds: xr.Dataset, i: int, quantities: list[str]) -> dict[str, tuple[float, float, float]]:
+    """Rung i's shift from the finest rung per quantity, paired over the seeds both have a value
+    for (distributions.compare), from the members a convergence dataset stores; a quantity with
+    fewer than two such seeds is left out."""
+    from .distributions import compare
+
+    out = {}
+    j = ds.sizes["rung"] - 1
+    seeds = ds["member_seed"].values if "member_seed" in ds else None
+    for k in quantities:
+        if f"{k}_member" not in ds or seeds is None:
+            continue
+        v, has = ds[f"{k}_member"].values, ds[f"{k}_has"].values == 1
+        at_i = {int(sd): x for sd, x, ok in zip(seeds[i], v[i], has[i]) if ok}
+        at_j = {int(sd): x for sd, x, ok in zip(seeds[j], v[j], has[j]) if ok}
+        common = sorted(set(at_i) & set(at_j))
+        b = np.array([at_j[sd] for sd in common])
+        if len(common) < 2 or b.mean() == 0.0:
+            continue
+        c = compare(np.array([at_i[sd] for sd in common]), b, 1.0, paired=True)
+        out[k] = (c.shift, c.se, c.dof)
     return out
 
 
@@ -194,19 +225,28 @@ def match(h: Headline, parameter: str, ladders: Iterable[Ladder]) -> Ladder | No
     return min(cands, key=lambda x: (abs(math.log(x.L / h.L)), x.name))
 
 
-def uncovered(h: Headline, lad: Ladder) -> str:
-    """Why the ladder's shift does not bound the number's bias ('' where it does): the number was
-    computed at a coarser value of the ladder's parameter than its publication rung (h larger),
-    outside what the ladder measured."""
+def covering(h: Headline, lad: Ladder) -> tuple[tuple[float, float, float] | None, float, str]:
+    """The ladder's term for the number: (shift, se, dof) of the quantity, its first-order limit
+    factor and a note. A number computed at numerics at least as fine as the publication rung
+    (h no larger) reads the publication rung's shift; one computed at coarser numerics (a round-off
+    floor above the tol ladder's publication rung) the shift of the finest rung at least as
+    coarse as the number, from the finest rung: a bound where the bias grows with h; (None, 1,
+    why) where no rung is that coarse."""
+    pub = (lad.shifts.get(h.quantity), lad.limit_factor, "")
     if lad.parameter not in h.numerics or not math.isfinite(lad.h_pub):
-        return ""
+        return pub
     from .figures.convergence import REFINEMENT
 
     v = float(h.numerics[lad.parameter])
-    if REFINEMENT[lad.parameter][1](v) <= lad.h_pub * (1.0 + 1e-9):
-        return ""
-    return (f"{lad.name} measured {lad.parameter} down from its publication rung; the number ran at {v:.3g}, "
-            "coarser: not covered")
+    hv = REFINEMENT[lad.parameter][1](v)
+    if hv <= lad.h_pub * (1.0 + 1e-9):
+        return pub
+    wide = [r for r in lad.coarser if r[0] >= hv * (1.0 - 1e-9) and h.quantity in r[2]]
+    if not wide:
+        return None, 1.0, (f"{lad.name}: the number ran at {lad.parameter} = {v:.3g}, coarser than every rung "
+                           "compared: not covered")
+    h_r, value, shifts, factor = min(wide, key=lambda r: r[0])
+    return shifts[h.quantity], factor, f"; its rung {value:.3g} against the finest, covering the number's {v:.3g}"
 
 
 def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Dataset], list[Headline]]) -> xr.Dataset:
@@ -235,15 +275,18 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
                 has_bias[i, p] = 1
                 continue
             lad = match(h, name, ladders) if name in LADDER_PARAMETERS else None
-            if lad is not None and uncovered(h, lad):
-                source[i, p] = uncovered(h, lad)
-            elif lad is not None:
-                bias[i, p], bias_se[i, p], dof = lad.shifts[h.quantity]
-                bias_t[i, p], to_limit[i, p] = t_quantiles(dof)[0], lad.limit_factor
-                has_bias[i, p] = 1
-                moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
-                source[i, p] = (f"{lad.name} (L/R = {lad.L:g}, k_fr = {lad.k_fr:g}, load = {lad.load:g}"
-                                + ("; transferred)" if moved[i, p] else ")"))
+            if lad is None:
+                continue
+            term, factor, how = covering(h, lad)
+            if term is None:
+                source[i, p] = how
+                continue
+            bias[i, p], bias_se[i, p], dof = term
+            bias_t[i, p], to_limit[i, p] = t_quantiles(dof)[0], factor
+            has_bias[i, p] = 1
+            moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
+            source[i, p] = (f"{lad.name} (L/R = {lad.L:g}, k_fr = {lad.k_fr:g}, load = {lad.load:g}"
+                            + ("; transferred" if moved[i, p] else "") + how + ")")
         bound[i] = bias_bound(bias[i], bias_se[i], bias_t[i], has_bias[i])
         limited[i] = LIMITED_BY.index("unknown" if not has_stat[i] or not has_bias[i].any() else
                                       "numerics" if bound[i] > stat_t[i] * stat[i] else "statistics")
