@@ -111,11 +111,12 @@ def test_a_long_verdict_is_shortened_for_the_figure_title_at_its_clauses_not_cut
 
 
 
-def test_a_served_tolerance_comes_from_the_finest_rung_not_from_the_value_under_test():
-    """A publication rung whose coarseness leaves 3 of 20 seeds stuck in another state (a quarter of
-    the others' value) must not widen the tolerance it is held to: the served figure's error is
-    taken from the finest rung's spread, and the shift the stuck seeds make is then undecided, not
-    passed (the case of the Fig 4(b) ramp ladder)."""
+def test_a_served_tolerance_is_not_widened_by_stuck_seeds_on_either_rung():
+    """A rung with 3 of 20 seeds stuck in another state (a quarter of the others' value) must not
+    widen the tolerance the shift is held to, whichever rung it is: the served figure's error is
+    taken from the smaller spread of the publication and the finest rung, and the shift the stuck
+    seeds make is then undecided, not passed (the case of the Fig 4(b) ramp ladder, whose stuck
+    seeds turned up at the finest rung)."""
     import numpy as np
 
     from confined_rod.analysis import distributions
@@ -129,15 +130,18 @@ def test_a_served_tolerance_comes_from_the_finest_rung_not_from_the_value_under_
     members = {k: np.array([pub, fine])}
     has = np.ones((2, 20), dtype=np.int8)
     served = [{"name": "fig.b", "seeds": 3, "reports": [k]}]
-    tol, origin = state_tolerances(members, has, 1, 0.03, served)[k]
-    assert tol == pytest.approx(distributions.budget_tolerance(fine, 3))
-    assert tol < distributions.budget_tolerance(pub, 3) / 3    # the publication rung's spread would pass it
-    assert "finest rung" in origin
+    for rungs in ((0, 1), (1, 0)):
+        tol, origin = state_tolerances(members, has, rungs, 0.03, served)[k]
+        assert tol == pytest.approx(distributions.budget_tolerance(fine, 3))
+        assert "smaller spread of the publication and the finest rung" in origin
+    assert tol < distributions.budget_tolerance(pub, 3) / 3    # the stuck rung's spread would pass it
     seeds = np.tile(np.arange(20), (2, 1))
     members["helix_balance"] = np.array([fine, fine])           # the local relation holds
-    status, notes, _ = ladder_verdict(np.array([128.0, 256.0]), members, has, 0, 0.02, 0.03, seeds=seeds,
-                                      served=served)
-    assert status.startswith("inconclusive") and f"{k} at 256" in status, status
+    for order, values in (((pub, fine), (128.0, 256.0)), ((fine, pub), (256.0, 512.0))):
+        members[k] = np.array(order)                             # stuck at the publication rung, then the finest
+        status, notes, _ = ladder_verdict(np.array(values), members, has, 0, 0.02, 0.03, seeds=seeds,
+                                          served=served)
+        assert status.startswith("inconclusive") and f"{k} at {values[1]:g}" in status, status
 
 
 def test_a_pass_names_the_distributions_the_ad_test_tells_apart():

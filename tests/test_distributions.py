@@ -137,6 +137,12 @@ def test_a_seed_that_jumps_to_another_equilibrium_is_counted_not_averaged_away()
     assert c.jumps == 1 and c.largest_jump == pytest.approx(0.25, rel=1e-12)
     assert "(1 of them jumps to another state, largest +25 %)" in c.text()
     assert D.compare(a, b, tolerance=0.03).jumps == 0           # unpaired: no seed to follow
+    # a converged ladder's seeds agree to round-off: an outlier of 1e-5 is not another state
+    d = rng.normal(0.0, 1e-7, 32)
+    d[[2, 9]] = 1e-5
+    assert D.seed_jumps(d) == (0, 0.0)
+    d[4] = 0.02
+    assert D.seed_jumps(d) == (1, pytest.approx(0.02))
 
 
 def test_the_budget_tolerance_is_half_the_figures_error_from_a_spread_bounded_below():

@@ -48,19 +48,20 @@ def row(ds, key):
 
 
 def test_bias_is_the_publication_rungs_shift_and_the_bound_adds_the_magnitudes():
-    """Two ladders with known shifts of opposite sign: the bias per parameter is the shift, the
-    bound sum |delta| + 1.96 sqrt(sum se^2) (no cancellation); the number is limited by its
+    """Two ladders with known shifts of opposite sign: the bias per parameter is the shift's
+    first-order distance to the limit (twice the shift: the finest rung halves h once), the bound
+    sum |delta| + 1.96 sqrt(sum se^2) over those (no cancellation); the number is limited by its
     numerics when the bound exceeds 1.96 standard errors of the mean, by its statistics otherwise."""
     lads = {"conv_l0": ladder("l0", 80, {"F_transmitted": (-0.016, 0.0056)}),
             "conv_tol": ladder("tol", 80, {"F_transmitted": (+0.0001, 0.0)})}
-    h_num = headline(value=0.1, se=0.0005)    # statistics 0.98 % at 95 % < bound 2.7 %
+    h_num = headline(value=0.1, se=0.0005)    # statistics 0.98 % at 95 % < bound 5.4 %
     h_stat = headline(L=40.0, value=0.1, se=0.004)   # statistics 7.8 %
     ds = budget([h_num, h_stat], lads)
     p = list(ds["budget_parameter"].values)
     i = list(ds["headline"].values).index(h_num.key)
-    assert ds["bias"].values[i, p.index("l0")] == pytest.approx(-0.016)
-    assert ds["bias_se"].values[i, p.index("l0")] == pytest.approx(0.0056)
-    expect = 0.016 + 0.0001 + eb.Z95 * 0.0056
+    assert ds["bias"].values[i, p.index("l0")] == pytest.approx(2 * -0.016)
+    assert ds["bias_se"].values[i, p.index("l0")] == pytest.approx(2 * 0.0056)
+    expect = 2 * (0.016 + 0.0001) + eb.Z95 * 2 * 0.0056
     assert ds["bias_bound"].values[i] == pytest.approx(expect, rel=1e-12)
     assert row(ds, h_num.key)["limited_by"] == "numerics"
     assert row(ds, h_stat.key)["limited_by"] == "statistics"
@@ -90,9 +91,9 @@ def test_ladder_matching_nearest_rod_same_friction_and_ramp_only_for_ramps():
     b = {h: ds["bias"].values[i] for i, h in enumerate(ds["headline"].values)}
     src = {h: ds["bias_source"].values[i] for i, h in enumerate(ds["headline"].values)}
     has = {h: ds["has_bias"].values[i] for i, h in enumerate(ds["headline"].values)}
-    assert b[at900.key][p.index("dx_max")] == pytest.approx(0.03)
+    assert b[at900.key][p.index("dx_max")] == pytest.approx(2 * 0.03)
     assert src[at900.key][p.index("dx_max")].startswith("dx1280")
-    assert b[ramp_c.key][p.index("ramp_steps")] == pytest.approx(0.005)
+    assert b[ramp_c.key][p.index("ramp_steps")] == pytest.approx(2 * 0.005)
     assert has[ramp_b.key][p.index("ramp_steps")] == 0        # no ramp ladder at k_fr 0.3
     assert has[near640.key][p.index("ramp_steps")] == 0      # not a ramp
     assert has[decay.key].sum() == 0                          # no ladder compared the decay ratio
@@ -160,10 +161,10 @@ def test_a_number_at_coarser_numerics_reads_the_rung_that_covers_it():
     p = list(ds["budget_parameter"].values).index("tol")
     heads = list(ds["headline"].values)
     at = {k: heads.index(k) for k in heads}
-    assert ds["bias"].values[at["fig.pub"], p] == pytest.approx(0.002)
-    assert ds["bias"].values[at["fig.floor"], p] == pytest.approx(0.01, rel=1e-9)
+    assert ds["bias"].values[at["fig.pub"], p] == pytest.approx(0.002 / (1 - 1e-6 / 1e-4))
+    assert ds["bias"].values[at["fig.floor"], p] == pytest.approx(0.01 / (1 - 1e-6 / 1e-3), rel=1e-9)
     assert ds["bias_se"].values[at["fig.floor"], p] == pytest.approx(0.0, abs=1e-12)   # the same factor per seed
-    assert ds["bias_limit_factor"].values[at["fig.floor"], p] == pytest.approx(1.0 / (1.0 - 1e-3))
+    assert ds["bias_limit_factor"].values[at["fig.floor"], p] == pytest.approx(1.0 / (1.0 - 1e-6 / 1e-3))
     assert "rung 0.001 against the finest" in str(ds["bias_source"].values[at["fig.floor"], p])
     assert ds["has_bias"].values[at["fig.beyond"], p] == 0
     assert "not covered" in str(ds["bias_source"].values[at["fig.beyond"], p])
@@ -255,7 +256,7 @@ def test_few_seeds_get_students_factor_and_a_shift_from_another_rod_is_flagged_t
     r_far, r_near = row(ds, far.key), row(ds, near.key)
     assert r_far["stat_95_percent"] == pytest.approx(100 * t.ppf(0.975, 4) * 0.02, rel=1e-9)
     i = list(ds["headline"].values).index(far.key)
-    assert ds["bias_bound"].values[i] == pytest.approx(0.016 + t.ppf(0.975, 9) * 0.0056, rel=1e-9)
+    assert ds["bias_bound"].values[i] == pytest.approx(2 * (0.016 + t.ppf(0.975, 9) * 0.0056), rel=1e-9)
     assert ds["bias_transferred"].values[i, p] == 1 and r_far["transferred"] == "l0"
     assert r_far["largest_transferred"] == "yes" and r_near["largest_transferred"] == "no"
     assert "transferred" in str(ds["bias_source"].values[i, p])

@@ -218,17 +218,21 @@ def compare(a, b, tolerance: float, paired: bool = False) -> Comparison:
 
 #: a paired difference this many robust standard deviations (1.4826 MAD) from the median is a jump
 JUMP_SIGMAS = 5.0
+#: ... and at least this far from it, relative to the mean: neighbouring equilibria of a frictional
+#: rod differ by per cents, while rungs of a converged ladder (tol, k_ph) differ seed by seed by
+#: 1e-5 of the mean or less, whose outliers are the equilibrium test's resolution, not a new state
+JUMP_FLOOR = 1e-3
 
 
 def seed_jumps(d: np.ndarray) -> tuple[int, float]:
-    """(count, largest) of the paired differences d that are outliers: further than JUMP_SIGMAS
-    robust standard deviations from their median, the seeds that moved to another equilibrium
-    rather than shifted with the rest. Where most differences are equal (MAD 0), every other one
-    is a jump. The largest is the outlier furthest from the median, with its sign."""
+    """(count, largest) of the paired differences d (relative to the mean) that are outliers:
+    further than JUMP_SIGMAS robust standard deviations and than JUMP_FLOOR from their median, the
+    seeds that moved to another equilibrium rather than shifted with the rest. The largest is the
+    outlier furthest from the median, with its sign."""
     d = np.asarray(d, dtype=float)
     dev = d - np.median(d)
     mad = 1.4826 * float(np.median(np.abs(dev)))
-    out = np.abs(dev) > JUMP_SIGMAS * mad if mad > 0 else np.abs(dev) > 1e-12 * max(1.0, float(np.abs(d).max()))
+    out = (np.abs(dev) > JUMP_SIGMAS * mad) & (np.abs(dev) > JUMP_FLOOR)
     if not out.any():
         return 0, 0.0
     i = int(np.argmax(np.where(out, np.abs(dev), -1.0)))

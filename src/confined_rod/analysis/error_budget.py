@@ -10,9 +10,10 @@ nature:
   threshold found by bisection on one frictionless run there is none (the instability of the
   straight or planar rod does not depend on the seed); for one frictional run it is not measured;
 * the **numerical bias**: how far the publication numerics sit from their limit. For each
-  numerical parameter p it is the shift of the publication rung's ensemble mean from the finest
-  rung of the convergence ladder over p (analysis.figures.convergence: the relative shift
-  delta_p with its standard error sigma_p, paired seed by seed), read for the ladder's quantity
+  numerical parameter p it is the first-order distance of the publication rung's ensemble mean
+  from the limit, the shift from the finest rung of the convergence ladder over p times
+  1/(1 - h_fine/h_pub) (analysis.figures.convergence: the relative shift delta_p with its
+  standard error sigma_p, paired seed by seed, both times that factor), read for the ladder's quantity
   that the headline is (F_transmitted for a transmitted fraction, decay_ratio for a decay
   rate). A ladder is measured at one rod; its relative shift is taken to hold for the headline's
   rod (the dx_max ladder nearest in L, the ramp ladder of the same friction and load, the l0,
@@ -38,7 +39,9 @@ by what is not known ("unknown"), however small its statistical error. Two cavea
 states: the shift is measured to the finest rung, not to the limit: for a term of order p,
 f(h) = f* + a h^p, the publication rung h_pub sits 1/(1 - (h_fine/h_pub)^p) times the shift from
 the limit, 1/(1 - h_fine/h_pub) at first order (``bias_limit_factor``: 4/3 for a ladder whose
-finest rung is two halvings finer, 2 for one); and a shift measured at another rod than the
+finest rung is two halvings finer, 2 for one), and each term is that first-order distance, the
+shift and its standard error times the factor (an overestimate where the order is higher); and
+a shift measured at another rod than the
 number's (another L, friction or load) is *transferred*, flagged per term (``bias_transferred``).
 
 The headlines come from the figure kinds (an optional ``headlines(figure, ds)`` in a kind module,
@@ -281,7 +284,9 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
             if term is None:
                 source[i, p] = how
                 continue
-            bias[i, p], bias_se[i, p], dof = term
+            # the term is the first-order distance to the limit: the shift from the finest rung
+            # times 1/(1 - h_fine/h), with its error (module docstring)
+            bias[i, p], bias_se[i, p], dof = factor * term[0], factor * term[1], term[2]
             bias_t[i, p], to_limit[i, p] = t_quantiles(dof)[0], factor
             has_bias[i, p] = 1
             moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))

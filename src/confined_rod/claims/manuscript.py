@@ -666,6 +666,10 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
     for limit in error_budget.LIMITED_BY:
         macros.add("val", f"budget.{limit}", str(sum(r["limited_by"] == limit for r in rows)))
     macros.add("val", "budget.numbers", str(len(rows)))
+    # what is unknown: the statistical error (a single frictional run) or every bias term
+    unknown = [r for r in rows if r["limited_by"] == "unknown"]
+    macros.add("val", "budget.unknown_stat", str(sum(r["stat_95_percent"] is None for r in unknown)))
+    macros.add("val", "budget.unknown_bias", str(sum(r["stat_95_percent"] is not None for r in unknown)))
     lines = []
     for r in rows:
         stat = "not measured" if r["stat_95_percent"] is None else _percent(r["stat_95_percent"])
@@ -692,9 +696,9 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
                  r"Wilson interval); the numerical bias is the 95\,\% bound $\sum_p|\delta_p| + t\,(\sum_p "
                  r"\sigma_p^2)^{1/2}$ over the numerical parameters $p$ (a bias is not random: the magnitudes add, "
                  r"their measurement errors in quadrature, $t$ the largest of their Student's quantiles), "
-                 r"$\delta_p \pm \sigma_p$ the shift of the "
-                 r"publication rung's mean from the finest rung of the ladder over $p$ (Table~\ref{tab:convergence}; "
-                 r"the distance to the limit is larger" + _limit_factors_tex(ds) + "), "
+                 r"$\delta_p \pm \sigma_p$ the first-order distance of the publication rung's mean from the "
+                 r"limit: its shift from the finest rung of the ladder over $p$ (Table~\ref{tab:convergence}) "
+                 r"times $1/(1 - h_{\rm fine}/h_{\rm pub})$" + _limit_factors_tex(ds) + ", "
                  r"or for a threshold half its bisection bracket and the discretisation of the discrete chain's Euler "
                  r"load. The largest term is given with its standard error; \dag: measured at another rod (length, "
                  r"friction or load; the ladder's rod is in the table's CSV) and transferred to the number's as a "
@@ -709,8 +713,8 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
 
 
 def _limit_factors_tex(ds: xr.Dataset | None) -> str:
-    """', at first order 1/(1 - h_fine/h_pub) times the shift: 1.33 for l0, k_ph, ... and 2 for
-    ramp_steps' (analysis.error_budget, bias_limit_factor), over the terms the budget measured."""
+    """' (1.14 for l0, 1.33 for k_ph, ... and 2 for ramp_steps; an overestimate ...)': the factors
+    1/(1 - h_fine/h) the budget applied (analysis.error_budget, bias_limit_factor), over its terms."""
     if ds is None or "bias_limit_factor" not in ds:
         return ""
     by: dict[str, set[str]] = {}
@@ -723,8 +727,8 @@ def _limit_factors_tex(ds: xr.Dataset | None) -> str:
         return ""
     parts = [f"{f} for {', '.join(tex_escape(n) for n in sorted(names, key=params.index))}"
              for f, names in sorted(by.items(), key=lambda kv: float(kv[0]))]
-    return (r", at first order $1/(1 - h_{\rm fine}/h_{\rm pub})$ times the shift: "
-            + (" and ".join(parts) if len(parts) < 3 else ", ".join(parts[:-1]) + " and " + parts[-1]))
+    return (" (" + (" and ".join(parts) if len(parts) < 3 else ", ".join(parts[:-1]) + " and " + parts[-1])
+            + r"; an overestimate where the order is higher)")
 
 
 #: the plain-text units and symbols of the budget's labels (analysis.figures.*.headlines), as LaTeX

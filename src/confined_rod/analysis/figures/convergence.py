@@ -41,9 +41,9 @@ no per-seed question of the final state has an answer. Two questions do:
 What a ladder vouches for (``serves``). A ladder that names the figure scenes it stands behind
 (the same rod as its publication rung) holds each final-state quantity those figures report to
 the larger of ``distribution_tolerance`` and half the 95 % error of the figure's ensemble mean
-(distributions.budget_tolerance, with the spread of the ladder's finest rung: the reference,
-so that an artefact of the value under test, a share of seeds stuck in another state say,
-cannot widen the tolerance it is held to): the numerical bias then stays well below the
+(distributions.budget_tolerance, with the smaller spread of the ladder's publication and finest
+rungs, so that a state some seeds of either rung fall into, a loosely wound stuck helix say,
+cannot widen the tolerance its own shift is held to): the numerical bias then stays well below the
 statistical error of what the figure reports, which is all the figure needs, and the ladder's
 size follows from the figure's. Quantities no served
 figure reports are compared and described but do not decide. Without ``serves`` every
@@ -402,13 +402,15 @@ def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
     return out
 
 
-def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, iref: int, dist_tol: float,
+def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, rungs: tuple[int, ...], dist_tol: float,
                      served: list[Mapping[str, Any]] | None) -> dict[str, tuple[float, str] | None]:
     """Per final-state quantity (STATE_KEYS): (tolerance, where it comes from), or None where it
     does not decide (module docstring, ``serves``). Without served figures every quantity is held
     to ``dist_tol``; with them, a quantity reported by the served figures to the larger of
     ``dist_tol`` and budget_tolerance over the largest served ensemble that reports it, computed
-    from the members of rung ``iref`` (the finest: the reference)."""
+    from the members of each of ``rungs`` (the publication rung and the finest) and the smallest
+    taken: a state that some seeds of one rung fall into widens that rung's spread, and the
+    tolerance it is held to must not grow with it."""
     out: dict[str, tuple[float, str] | None] = {}
     for k in STATE_KEYS:
         if not served:
@@ -419,14 +421,17 @@ def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, iref: i
             out[k] = None
             continue
         figure = max(by, key=lambda s: s["seeds"])
-        v = members[k][iref] if k in members else np.array([])
-        x = v[(has[iref] == 1) & np.isfinite(v)] if v.size else v
-        budget = (distributions.budget_tolerance(x, int(figure["seeds"]))
-                  if x.size >= 2 and x.mean() != 0.0 and figure["seeds"] >= 2 else 0.0)
+        budgets = []
+        for i in rungs:
+            v = members[k][i] if k in members else np.array([])
+            x = v[(has[i] == 1) & np.isfinite(v)] if v.size else v
+            if x.size >= 2 and x.mean() != 0.0 and figure["seeds"] >= 2:
+                budgets.append(distributions.budget_tolerance(x, int(figure["seeds"])))
+        budget = min(budgets) if budgets else 0.0
         if budget > dist_tol:
             out[k] = (budget, f" (half the 95 % error of a mean over the {figure['seeds']} seeds "
-                              f"{figure['name']} is configured for, with the finest rung's spread; seeds it leaves "
-                              "out widen its error)")
+                              f"{figure['name']} is configured for, with the smaller spread of the publication and "
+                              "the finest rung; seeds it leaves out widen its error)")
         else:
             out[k] = (dist_tol, "")
     return out
@@ -456,7 +461,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     finer = list(range(ipub + 1, len(values)))
     table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp", "deciding")}
     notes, decisive = [], []
-    state_tol = state_tolerances(members, has, len(values) - 1, dist_tol, served)
+    state_tol = state_tolerances(members, has, (ipub, len(values) - 1), dist_tol, served)
     if not finer:
         return "inconclusive: no rung finer than the publication value", ["no finer rung"], table
     compared_relation = False
@@ -518,7 +523,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     told = ("" if not shape else
             f"; the Anderson-Darling test tells the rungs' distributions apart at {100 * AD_ALPHA:g} % for "
             + ", ".join(f"{k} ({distributions.ad_text(p)})" for k, p in sorted(shape.items(), key=lambda kp: kp[1]))
-            + ": a difference of shape that the means' tolerance allows")
+            + ": a difference in location or shape that the means' tolerance allows")
     return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary}){told}", notes, table
 
 
