@@ -808,11 +808,14 @@ def plot(ds: xr.Dataset):
             ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else "Richardson limit")
             if not described:
                 # the band never sets the axes: a tolerance much wider than the rungs' spread would
-                # squash them onto one line (a band filling the panel: every rung is inside it)
+                # squash them onto one line (a band filling the panel: every rung is inside it);
+                # the axes span at least a fifth of the tolerance, so that rungs equal to round-off
+                # are drawn as equal, not as an offset scale of their last digits
                 y0, y1 = ax.get_ylim()
                 ax.axhspan(lim * (1 - tol), lim * (1 + tol), color="tab:blue", alpha=0.12, lw=0,
                            label=rf"{'finest' if ensemble else 'limit'} $\pm$ tolerance")
-                ax.set_ylim(min(y0, lim), max(y1, lim))
+                lo, hi = sorted((lim * (1 - tol / 5), lim * (1 + tol / 5)))
+                ax.set_ylim(min(y0, lo), max(y1, hi))
         if ensemble:
             q = list(ds["quantity"].values).index(k)
             codes = ds["cmp_verdict_code"].values[:, q]
