@@ -342,8 +342,8 @@ def test_a_small_ensemble_is_inconclusive_with_the_seeds_that_would_decide():
 def test_a_ladder_that_serves_a_small_figure_is_held_to_that_figures_error():
     """Six seeds that keep their states (a 10 % spread carried on every rung) and a shift of 3.9 %:
     beyond a fixed 3 %, but well inside the error of the mean of a 3-seed figure (about +-25 %).
-    Serving that figure, F_transmitted is held to half its 95 % error, from the finest rung's
-    spread bounded below (distributions.budget_tolerance), and passes; the quantities the figure
+    Serving that figure, F_transmitted is held to half its 95 % error, from the smaller spread of
+    the publication and the finest rung, bounded below (distributions.budget_tolerance), and passes; the quantities the figure
     does not report are compared and described but do not decide (verdict code 4)."""
     fig = {"name": "fig_x.a", "seeds": 3, "reports": ["F_transmitted"]}
     kw = {"n_seeds": 6, "spread": 0.10, "carried": True}
@@ -353,8 +353,8 @@ def test_a_ladder_that_serves_a_small_figure_is_held_to_that_figures_error():
     assert st.startswith("pass"), st
     q = list(ds["quantity"].values)
     iF = q.index("F_transmitted")
-    finest = ds["F_transmitted_member"].values[-1]
-    expected = distributions.budget_tolerance(finest, 3)
+    ipub = int(np.flatnonzero(np.isclose(ds["value"].values, ds.attrs["publication_value"]))[0])
+    expected = min(distributions.budget_tolerance(ds["F_transmitted_member"].values[i], 3) for i in (ipub, -1))
     assert expected > 0.03
     assert ds["cmp_compared_tolerance"].values[2, iF] == pytest.approx(expected, rel=1e-12)
     assert ds["cmp_verdict_code"].values[2, q.index("helix_balance")] == 1      # the local relation decides

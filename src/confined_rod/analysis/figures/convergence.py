@@ -822,7 +822,7 @@ def plot(ds: xr.Dataset):
             rows = np.flatnonzero(codes > 0)
             if rows.size:
                 j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
-                word = ("described, not deciding" if described else
+                word = ("not deciding" if described else
                         {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %")
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
