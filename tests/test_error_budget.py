@@ -137,7 +137,7 @@ def test_distance_to_the_limit_is_one_over_one_minus_the_refinement_ratio_at_fir
     assert ds["bias_limit_factor"].values[0, p.index("ramp_steps")] == pytest.approx(2.0)
     assert ds["bias_limit_factor"].values[0, p.index("k_ph")] == 1.0       # not measured
     text = manuscript._limit_factors_tex(ds)
-    assert "1.33 for l0" in text and "2 for ramp\\_steps" in text, text
+    assert "l0 1.33" in text and "ramp\\_steps 2" in text, text
 
 
 def test_a_number_at_coarser_numerics_reads_the_rung_that_covers_it():

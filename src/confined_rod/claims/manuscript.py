@@ -713,22 +713,26 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
 
 
 def _limit_factors_tex(ds: xr.Dataset | None) -> str:
-    """' (1.14 for l0, 1.33 for k_ph, ... and 2 for ramp_steps; an overestimate ...)': the factors
-    1/(1 - h_fine/h) the budget applied (analysis.error_budget, bias_limit_factor), over its terms."""
+    """' (l0 1.14, k_ph 1.11, ..., tol 1.00-1.11, ramp_steps 2; an overestimate where the order is
+    higher)': per numerical parameter, the factor or range of factors 1/(1 - h_fine/h) the budget
+    applied (analysis.error_budget, bias_limit_factor; a number at coarser numerics reads a
+    coarser rung, with a factor nearer 1)."""
     if ds is None or "bias_limit_factor" not in ds:
         return ""
-    by: dict[str, set[str]] = {}
     params = [str(p) for p in ds["budget_parameter"].values]
+    by: dict[str, list[float]] = {}
     for i in range(ds.sizes["headline"]):
         for p, name in enumerate(params):
             if ds["has_bias"].values[i, p] and name not in ("bracket", "discretisation"):
-                by.setdefault(f"{float(ds['bias_limit_factor'].values[i, p]):.3g}", set()).add(name)
+                by.setdefault(name, []).append(float(ds["bias_limit_factor"].values[i, p]))
     if not by:
         return ""
-    parts = [f"{f} for {', '.join(tex_escape(n) for n in sorted(names, key=params.index))}"
-             for f, names in sorted(by.items(), key=lambda kv: float(kv[0]))]
-    return (" (" + (" and ".join(parts) if len(parts) < 3 else ", ".join(parts[:-1]) + " and " + parts[-1])
-            + r"; an overestimate where the order is higher)")
+    parts = []
+    for name in sorted(by, key=params.index):
+        lo, hi = min(by[name]), max(by[name])
+        span = f"{lo:.3g}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g}--{hi:.3g}"
+        parts.append(f"{tex_escape(name)} {span}")
+    return " (" + ", ".join(parts) + "; an overestimate where the order is higher)"
 
 
 #: the plain-text units and symbols of the budget's labels (analysis.figures.*.headlines), as LaTeX
