@@ -343,8 +343,9 @@ def test_a_ladder_that_serves_a_small_figure_is_held_to_that_figures_error():
     """Six seeds that keep their states (a 10 % spread carried on every rung) and a shift of 3.9 %:
     beyond a fixed 3 %, but well inside the error of the mean of a 3-seed figure (about +-25 %).
     Serving that figure, F_transmitted is held to half its 95 % error, from the smaller spread of
-    the publication and the finest rung, bounded below (distributions.budget_tolerance), and passes; the quantities the figure
-    does not report are compared and described but do not decide (verdict code 4)."""
+    the publication and the finest rung, bounded below (distributions.budget_tolerance), and
+    passes; the quantities the figure does not report are compared and described but do not
+    decide (verdict code 4)."""
     fig = {"name": "fig_x.a", "seeds": 3, "reports": ["F_transmitted"]}
     kw = {"n_seeds": 6, "spread": 0.10, "carried": True}
     assert _ladder((0.27, 0.27, 0.281), **kw).attrs["status"].startswith("fail: F_transmitted at 0.25")
