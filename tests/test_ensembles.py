@@ -372,6 +372,13 @@ def test_a_ladder_that_serves_a_small_figure_is_held_to_that_figures_error():
     assert _ladder((0.27, 0.27, 0.36), served=[fig], **kw).attrs["status"].startswith("fail")
     moved = _ladder((0.27, 0.27, 0.27), relations=(1.1, 1.1, 1.2), served=[fig], **kw)
     assert moved.attrs["status"].startswith("fail: helix_balance at 0.25"), moved.attrs["status"]
+    # the figure still says how a described quantity compares with the tolerance, marked as such
+    fig_ = convergence.plot(ds.assign_attrs(title="t", L=80.0, load=0.25, k_fr=0.8))
+    titles = [ax.get_title() for ax in fig_.axes if ax.get_visible()]
+    described = [t for t in titles if t.endswith("(described)")]
+    assert described and all(t.split("\n")[-1].split()[0] in ("within", "beyond", "undecided") for t in described)
+    assert any(t.split("\n")[-1].startswith(("within", "beyond", "undecided")) and "described" not in t
+               for t in titles)
 
 
 def test_a_seed_on_a_saddle_is_left_out_and_named():

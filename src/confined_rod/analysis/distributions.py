@@ -170,6 +170,17 @@ def anderson_p(a: np.ndarray, b: np.ndarray) -> float:
         return float(anderson_ksamp([a, b]).pvalue)
 
 
+def decide(shift: float, se: float, dof: float, tolerance: float) -> str:
+    """WITHIN, BEYOND or UNDECIDED of a relative shift with standard error ``se`` (``dof`` degrees
+    of freedom) against ``tolerance`` (module docstring)."""
+    t_alpha, t_power = t_quantiles(dof)
+    if abs(shift) - t_alpha * se > tolerance:
+        return BEYOND
+    if abs(shift) + t_alpha * se <= tolerance and (t_alpha + t_power) * se <= tolerance:
+        return WITHIN
+    return UNDECIDED
+
+
 def compare(a, b, tolerance: float, paired: bool = False) -> Comparison:
     """Ensemble a (publication rung) against b (finer rung), relative to b (module docstring).
     Needs at least two values in each; ``paired``: a[i] and b[i] are one seed (equal sizes)."""
@@ -198,13 +209,9 @@ def compare(a, b, tolerance: float, paired: bool = False) -> Comparison:
     shift = ratio - 1.0
     resolution = (t_alpha + t_power) * se
     n = max(a.size, b.size)
-    if abs(shift) - t_alpha * se > tolerance:
-        verdict, need = BEYOND, 0.0
-    elif abs(shift) + t_alpha * se <= tolerance and resolution <= tolerance:
-        verdict, need = WITHIN, 0.0
-    else:
+    verdict, need = decide(shift, se, dof, tolerance), 0.0
+    if verdict == UNDECIDED:
         # seeds that would decide, with the large-sample factors (a larger ensemble has them)
-        verdict = UNDECIDED
         margin = tolerance - abs(shift)
         if margin > 0:
             need = n * max((Z_ALPHA * se / margin) ** 2, ((Z_ALPHA + Z_POWER) * se / tolerance) ** 2)

@@ -822,12 +822,19 @@ def plot(ds: xr.Dataset):
             rows = np.flatnonzero(codes > 0)
             if rows.size:
                 j = rows[np.argmax(np.abs(ds["cmp_shift"].values[rows, q]))]
-                word = ("not deciding" if described else
-                        {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %")
+                if described:
+                    # the comparison is still made against the tolerance, and said, but not counted
+                    dof = float(ds["cmp_dof"].values[j, q]) if "cmp_dof" in ds else -1.0
+                    verdict = distributions.decide(float(ds["cmp_shift"].values[j, q]),
+                                                   float(ds["cmp_shift_se"].values[j, q]),
+                                                   dof if dof > 0 else math.inf, tol)
+                    word = f"{verdict} {100 * tol:.2g} % (described)"
+                else:
+                    word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %"
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
-                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %: {word}", fontsize=7.5)
+                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %\n{word}", fontsize=7.5)
             else:
                 ax.set_title("not compared (fewer than two values)", fontsize=7.5)
         elif k in checked:
