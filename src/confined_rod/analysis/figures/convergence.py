@@ -726,7 +726,7 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail") -> str:
 #: the refinement axis: h on a log scale, ticked at the rungs by the parameter's value
 _X_LABEL = {"l0": r"$l_0$ [$R$] (axis: $h = l_0$)", "k_ph": r"$k_{ph}$ [$EI/R^2$] (axis: $h = 1/k_{ph}$)",
             "k_w": r"$k_w$ [$EI/R^3$] (axis: $h = 1/k_w$)", "k_t": r"$k_t$ [$EI/R^3$] (axis: $h = 1/k_t$)",
-            "tol": r"tol (axis: $h$ = tol)", "ramp_steps": r"$n_{ramp}$ (axis: $h = 1/n_{ramp}$)",
+            "tol": r"tol (normalised residual; axis: $h$ = tol)", "ramp_steps": r"$n_{ramp}$ (axis: $h = 1/n_{ramp}$)",
             "dx_max": r"$dx_{max}$ [$R$] (axis: $h = dx_{max}$)"}
 
 
