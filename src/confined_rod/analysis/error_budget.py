@@ -176,21 +176,20 @@ def _shifts_to_finest(ds: xr.Dataset, i: int, quantities: list[str]) -> dict[str
     for (distributions.compare), from the members a convergence dataset stores; a quantity with
     fewer than two such seeds is left out."""
     from .distributions import compare
+    from .figures.convergence import aligned
 
     out = {}
     j = ds.sizes["rung"] - 1
-    seeds = ds["member_seed"].values if "member_seed" in ds else None
+    if "member_seed" not in ds:
+        return out
+    seeds = ds["member_seed"].values.astype(np.int64)
     for k in quantities:
-        if f"{k}_member" not in ds or seeds is None:
+        if f"{k}_member" not in ds:
             continue
-        v, has = ds[f"{k}_member"].values, ds[f"{k}_has"].values == 1
-        at_i = {int(sd): x for sd, x, ok in zip(seeds[i], v[i], has[i]) if ok}
-        at_j = {int(sd): x for sd, x, ok in zip(seeds[j], v[j], has[j]) if ok}
-        common = sorted(set(at_i) & set(at_j))
-        b = np.array([at_j[sd] for sd in common])
-        if len(common) < 2 or b.mean() == 0.0:
+        a, b = aligned(ds[f"{k}_member"].values, ds[f"{k}_has"].values, seeds, i, j)
+        if b.size < 2 or b.mean() == 0.0:
             continue
-        c = compare(np.array([at_i[sd] for sd in common]), b, 1.0, paired=True)
+        c = compare(a, b, 1.0, paired=True)
         out[k] = (c.shift, c.se, c.dof)
     return out
 
@@ -248,7 +247,7 @@ def covering(h: Headline, lad: Ladder) -> tuple[tuple[float, float, float] | Non
     if not wide:
         return None, 1.0, (f"{lad.name}: the number ran at {lad.parameter} = {v:.3g}, coarser than every rung "
                            "compared: not covered")
-    h_r, value, shifts, factor = min(wide, key=lambda r: r[0])
+    _, value, shifts, factor = min(wide, key=lambda r: r[0])
     return shifts[h.quantity], factor, f"; its rung {value:.3g} against the finest, covering the number's {v:.3g}"
 
 

@@ -469,7 +469,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
         if k not in members:
             continue
         for j in finer:
-            a, b = _aligned(members[k], has, seeds, ipub, j)
+            a, b = aligned(members[k], has, seeds, ipub, j)
             where = f"{k} at {values[j]:g}"
             if a.size < 2 or b.size < 2:
                 if k in RELATION_KEYS and (a.size or b.size):
@@ -527,7 +527,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary}){told}", notes, table
 
 
-def _aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
+def aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
     """The values of rungs i and j: every member with a value (seeds None), or the seeds both
     rungs have a value for, in one order (paired)."""
     ok_i, ok_j = (has[i] == 1) & np.isfinite(v[i]), (has[j] == 1) & np.isfinite(v[j])
