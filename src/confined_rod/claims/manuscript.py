@@ -717,13 +717,15 @@ def _limit_factors_tex(ds: xr.Dataset | None) -> str:
     higher)': per numerical parameter, the factor or range of factors 1/(1 - h_fine/h) the budget
     applied (analysis.error_budget, bias_limit_factor; a number at coarser numerics reads a
     coarser rung, with a factor nearer 1)."""
+    from ..analysis import error_budget
+
     if ds is None or "bias_limit_factor" not in ds:
         return ""
     params = [str(p) for p in ds["budget_parameter"].values]
     by: dict[str, list[float]] = {}
     for i in range(ds.sizes["headline"]):
         for p, name in enumerate(params):
-            if ds["has_bias"].values[i, p] and name not in ("bracket", "discretisation"):
+            if ds["has_bias"].values[i, p] and name in error_budget.LADDER_PARAMETERS:
                 by.setdefault(name, []).append(float(ds["bias_limit_factor"].values[i, p]))
     if not by:
         return ""

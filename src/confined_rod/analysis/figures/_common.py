@@ -44,3 +44,9 @@ def check_scene_keys(figure: str, option: str, mapping: Mapping[str, Any] | None
     for key in mapping or {}:
         if key not in built:
             raise ConfigError(f"figures.{figure}.{option}: {key!r} is not one of its scenes ({', '.join(built)})")
+
+
+def tol_effective(sim: xr.Dataset) -> float:
+    """The equilibrium tolerance a run was tested at: its round-off floor where that exceeds tol
+    (limits.equilibrium_tol, stored as ``tol_effective``), else tol."""
+    return float(sim.attrs.get("tol_effective", sim.attrs["tol"]))

@@ -29,7 +29,7 @@ from ..error_budget import Headline
 from ..figure_quantities import attrs, error_attrs, label, variable
 from ..fits import PARAMS, FitError, determined, fit_power_law, power_law, undetermined
 from ..measure import HELIX_RUN, contact_range, euler_ratio, n_turns
-from ._common import check_scene_keys, same_except
+from ._common import check_scene_keys, same_except, tol_effective
 
 _PAPER_FIT = {"type": "object", "additionalProperties": False, "required": ["A", "l0", "c"],
               "properties": {"A": {"type": "number", "exclusiveMinimum": 0},
@@ -386,8 +386,7 @@ def _build(fig_cfg, sims) -> xr.Dataset:
         "n_contact": variable(("panel",), [int(sims[n]["contact"].sum()) for n in names], "n_contact"),
         "n_turns": variable(("panel",), [n_turns(sims[n]) for n in names], "n_turns"),
         "euler_ratio": variable(("panel",), [euler_ratio(sims[n]) for n in names], "euler_ratio"),
-        "tol_effective": variable(("panel",), [float(sims[n].attrs.get("tol_effective", sims[n].attrs["tol"]))
-                                               for n in names], "tol_effective"),
+        "tol_effective": variable(("panel",), [tol_effective(sims[n]) for n in names], "tol_effective"),
     })
     data["has_paper_fit"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
     coords = {

@@ -19,7 +19,7 @@ from .. import plotting as P
 from ..error_budget import Headline
 from ..figure_quantities import label, variable
 from ..measure import n_turns
-from ._common import need_scenes, per_scene, same_except, scene_coord
+from ._common import need_scenes, per_scene, same_except, scene_coord, tol_effective
 
 OPTIONS: dict = {}
 REGION_KEYS = regions.SUMMARY_KEYS
@@ -83,7 +83,7 @@ def _build(names, sims) -> xr.Dataset:
         "n_turns": col("n_turns", n_turns),
         "residual_force": col("residual_force", lambda d: float(d["residual_force"])),
         "wall_time": col("wall_time", lambda d: float(d["wall_time"])),
-        "tol_effective": col("tol_effective", lambda d: float(d.attrs.get("tol_effective", d.attrs["tol"]))),
+        "tol_effective": col("tol_effective", tol_effective),
         "F_simple": variable(("L_model",), theory.force_decay(L_model, load, k_fr, R, EI), "F_simple"),
         "F_simple_paper": variable(("L_model",), theory.force_decay(L_model, load, k_fr, R, EI, paper=True),
                                    "F_simple_paper"),
@@ -117,8 +117,7 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
     ds["residual_force"] = variable(("L",), members(lambda d: float(d["residual_force"])).max(axis=1),
                                     "residual_force")
     ds["wall_time"] = variable(("L",), members(lambda d: float(d["wall_time"])).sum(axis=1), "wall_time")
-    ds["tol_effective"] = variable(("L",), members(lambda d: float(d.attrs.get("tol_effective", d.attrs["tol"])))
-                                   .max(axis=1), "tol_effective")
+    ds["tol_effective"] = variable(("L",), members(tol_effective).max(axis=1), "tol_effective")
     ds["F_member"] = variable(("L", "member"), F, "F_member")
     ds["member_seed"] = variable(("L", "member"), members(lambda d: float(d.attrs["seed"])).astype(np.int64),
                                  "member_seed")
