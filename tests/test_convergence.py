@@ -162,3 +162,72 @@ def test_a_pass_names_the_distributions_the_ad_test_tells_apart():
     same, _, _ = ladder_verdict(np.array([1.0, 0.5]), {k: np.array([narrow, narrow]) for k in members}, has, 0,
                                 0.02, 0.03)
     assert same.startswith("pass") and "Anderson-Darling" not in same
+
+
+def test_loosely_wound_seeds_leave_the_decay_law_and_are_described_by_their_share():
+    """Three of 20 seeds of the finest rung end loosely wound (wall force a quarter of the
+    torque-free helix's, decay ratio 0.26): their ratios to the torque-free helix break the law's
+    premise, so the decay ratio is compared over the tightly wound seeds and passes, while the
+    share is described with McNemar's exact p (0 and 3 seeds loosely wound on one rung only:
+    p = 2 (1/2)^3 = 0.25). Without the flags the same numbers are undecided."""
+    import numpy as np
+
+    from confined_rod.analysis.figures.convergence import ladder_verdict
+
+    rng = np.random.default_rng(5)
+    tight = 1.0 + 0.03 * rng.standard_normal(20)
+    pub = tight * (1 + 0.002 * rng.standard_normal(20))
+    fine = tight.copy()
+    fine[[2, 9, 14]] = 0.26
+    wall = np.array([np.full(20, 1.05), np.where(np.isin(np.arange(20), [2, 9, 14]), 0.26, 1.05)])
+    members = {"helix_balance": np.array([tight, tight]), "decay_ratio": np.array([pub, fine]),
+               "wall_force_ratio": wall, "loosely_wound": (wall < 0.5).astype(float)}
+    has = np.ones((2, 20), dtype=np.int8)
+    seeds = np.tile(np.arange(20), (2, 1))
+    served = [{"name": "fig.b", "seeds": 3, "reports": ["decay_ratio"]}]
+    status, notes, table = ladder_verdict(np.array([256.0, 512.0]), members, has, 0, 0.02, 0.03, seeds=seeds,
+                                          served=served)
+    assert status.startswith("pass"), status
+    c = table["cmp"][table["quantity"].index("decay_ratio")]
+    assert c.n_a == 17 and c.jumps == 0
+    share = [n for n in notes if n.startswith("loosely wound at 256 against 512")]
+    assert share and "0 of 20 and 3 of 20" in share[0] and "McNemar exact p = 0.25" in share[0], notes
+    del members["loosely_wound"]
+    status, _, _ = ladder_verdict(np.array([256.0, 512.0]), members, has, 0, 0.02, 0.03, seeds=seeds, served=served)
+    assert status.startswith("inconclusive") and "decay_ratio at 512" in status, status
+
+
+def test_the_split_by_region_adds_up_to_the_shift_of_the_mean_even_across_a_jump():
+    """Three seeds per rung built with prescribed decay rates (link 0 at the loaded end); one seed
+    jumps to a bulk decaying at a quarter of the rate (F(L) changed by tens of per cent). The
+    regions' shares sum exactly to mean F_i(L)/mean F_j(L) - 1, where a first-order split
+    -F_j dX would miss by the jump's square; the bulk carries it all (tips and lower regions
+    built alike)."""
+    import numpy as np
+
+    from confined_rod.analysis import regions
+    from confined_rod.analysis.figures.convergence import _split_by_region
+
+    from .shapes import prescribed_helix
+
+    rates = {"pub": (1.1, 1.0, 0.25), "fine": (1.05, 1.0, 1.1)}
+    sims, groups = {}, []
+    for rung, cs in rates.items():
+        names = []
+        for seed, c in enumerate(cs):
+            name = f"{rung}-s{seed}"
+            sims[name] = prescribed_helix(c_K=c, seed=seed, tip=6.0, bottom=10.0)
+            names.append(name)
+        groups.append(names)
+    shift, se, n, cov, (F_pub, X_bulk) = _split_by_region(sims, groups, 0, 1)
+    F = {k: np.array([abs(float(sims[m]["F_z"].values[-1])) for m in g]) for k, g in zip(rates, groups)}
+    exact = F["pub"].mean() / F["fine"].mean() - 1.0
+    assert n == 3 and abs(exact) > 0.1
+    assert shift[-1] == pytest.approx(exact, rel=1e-9)
+    assert shift[:3].sum() == pytest.approx(exact, rel=1e-9)
+    assert abs(shift[0]) < 1e-3 * abs(exact) and abs(shift[2]) < 1e-3 * abs(exact)
+    # the shares' covariance carries the error of their sum; the rung's own F(L) and bulk part
+    assert cov.sum() == pytest.approx(se[-1] ** 2, rel=1e-9)
+    assert F_pub == pytest.approx(F["pub"].mean(), rel=1e-12)
+    parts = [regions.force_parts(sims[m])["bulk"] for m in groups[0]]
+    assert X_bulk == pytest.approx(np.mean(parts), rel=1e-12)

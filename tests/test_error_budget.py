@@ -270,3 +270,34 @@ def test_a_share_of_seeds_has_its_wilson_interval():
     assert wilson_interval(0, 10)[0] == 0.0 and wilson_interval(0, 10)[1] == pytest.approx(0.2775, abs=1e-4)
     with pytest.raises(ValueError, match="k = 11"):
         wilson_interval(11, 10)
+
+
+def test_a_shift_of_the_bulk_decay_rate_is_carried_to_a_longer_rod_exactly():
+    """A 2 % bias of the bulk decay rate (helices built with c_K 1.02 against 1.00, the same tip
+    and lower region; link 0 at the loaded end) moves F(L) by a few per cent at L/R = 80 and by
+    more at L/R = 320, where the bulk adds more to 1/|F_z|: the L/R = 80 split by region, rescaled
+    to the longer rod's F(L) and bulk part, gives the longer rod's own shift to round-off, where
+    the shift taken as it is would miss it by a fifth. The same rod (weights 1) gets its own
+    shift back."""
+    from confined_rod.analysis import error_budget as EB
+    from confined_rod.analysis import regions
+    from confined_rod.analysis.figures.convergence import _split_by_region
+
+    from .shapes import prescribed_helix
+
+    def split(L, pub, fine):
+        sims = {f"{r}-s{s}": prescribed_helix(L=L, seed=s, tip=6.0, bottom=10.0, **kw)
+                for r, kw in (("pub", pub), ("fine", fine)) for s in (0, 1)}
+        groups = [[f"pub-s{s}" for s in (0, 1)], [f"fine-s{s}" for s in (0, 1)]]
+        shift, _, n, cov, at = _split_by_region(sims, groups, 0, 1)
+        F = {r: abs(float(sims[f"{r}-s0"]["F_z"].values[-1])) for r in ("pub", "fine")}
+        return (shift[:3], cov, at[0], at[1], n), F["pub"] / F["fine"] - 1.0, at
+
+    short, short_shift, _ = split(80.0, {"c_K": 1.02}, {"c_K": 1.0})
+    _, long_shift, long_rod = split(320.0, {"c_K": 1.02}, {"c_K": 1.0})
+    assert abs(long_shift) > 1.15 * abs(short_shift) > 0.01
+    got, se, dof = EB.rescaled(short, long_rod)
+    assert got == pytest.approx(long_shift, rel=1e-9) and se == pytest.approx(0.0, abs=1e-12) and dof == 1
+    same, _, _ = EB.rescaled(short, (short[2], short[3]))
+    assert same == pytest.approx(short_shift, rel=1e-9)
+    assert regions.REGIONS == ("tip", "bulk", "lower")

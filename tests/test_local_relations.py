@@ -125,3 +125,14 @@ def test_a_simulated_frictionless_helix_balances():
     got = LR.measure(simulate(Scene(L=40, load=0.25, k_fr=0.0, l0=0.5, k_ph=1e4, tol=1e-5), progress=False))
     assert got["helix_balance"] == pytest.approx(1.0, abs=0.015)
     assert got["pitch_ratio"] == pytest.approx(1.0, abs=0.015)
+
+
+def test_a_loosely_wound_bulk_is_told_from_a_tight_one_by_its_wall_force():
+    """A bulk built with a quarter of the torque-free wall force (c_K 0.25: a locked torque) is
+    loosely wound; the torque-free helix (c_K 1.1) and one just above the threshold are not; no
+    helix, no answer. Link 0 is at the loaded end: the detached tip does not enter the median."""
+    assert LR.loosely_wound(LR.measure(constructed_helix(c_K=0.25))) is True
+    assert LR.loosely_wound(LR.measure(constructed_helix(c_K=1.1))) is False
+    assert LR.loosely_wound(LR.measure(constructed_helix(c_K=LR.LOOSE_WALL_RATIO * 1.02, tip=30.0))) is False
+    assert LR.loosely_wound(LR.measure(constructed_helix(c_K=LR.LOOSE_WALL_RATIO * 0.98, tip=30.0))) is True
+    assert LR.loosely_wound(LR.measure(constructed_helix(tip=97.0))) is None

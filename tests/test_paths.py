@@ -13,6 +13,7 @@ for the discrete rod (C = EI/l0) pi^2/L^2 becomes (4/l0^2) sin^2(pi l0/(2L)).
 """
 import numpy as np
 import pytest
+import xarray as xr
 
 from confined_rod.sim import load_paths as paths
 from confined_rod.sim import observables as obs
@@ -167,6 +168,45 @@ def test_bifurcation_dataset_and_figure_from_real_runs():
     matplotlib.use("Agg")
     fig = bifurcation.plot(ds)
     assert len(fig.axes) == 2
+
+
+def test_a_stiff_twin_gives_each_threshold_its_bond_compliance_bias():
+    """The L/R = 10 rod bisected at k_ph = 100 and at 1e4 (relative precision 2e-4): the twin is
+    not a row of panel (b); the k_ph term of each threshold is its shift from the twin over
+    1 - k_ph/k_ph_twin. The second threshold (F_2 ~ 3.7 pi^2 EI/L^2 = 0.37 EI/R^2) compresses the
+    bonds by F_2/k_ph = 0.37 %: its bias is positive (a shorter, stiffer-loaded chain buckles
+    later) and below that strain, and far above the bracket (2e-4); the first threshold's load
+    compresses them by 0.1 %, and its bias is below the brackets' resolution of 4e-4 plus a tenth of that
+    strain (measured 5e-5: the tilted rod's shortening is shared by its span and its bending)."""
+    import copy
+
+    from confined_rod import pipeline
+    from confined_rod.analysis.figures import bifurcation
+
+    fig = copy.deepcopy(FIG3)
+    fig["precision"] = 2e-4
+    fig["scenes"]["thr_stiff"] = {"k_ph": 10000.0}
+    fig["runs"]["thr_stiff"] = "thresholds"
+    config = {"figures": {"fig3": fig}}
+    pipeline.validate(config)
+    names = ("thr", "thr_stiff")
+    sims = {n: paths.run_spec(pipeline.build_scene(config, "fig3", n), pipeline.path_spec(config, "fig3", n))
+            for n in names}
+    rows, twins = bifurcation.stiff_twins({n: tuple(float(sims[n].attrs[k]) for k in ("L", "R", "l0", "k_ph"))
+                                           for n in names})
+    assert rows == ["thr"] and twins == {"thr": "thr_stiff"}
+    mid = {n: 0.5 * (sims[n].threshold_lo.values + sims[n].threshold_hi.values) for n in names}
+    shift = (mid["thr"] / mid["thr_stiff"] - 1.0) / (1.0 - 100.0 / 10000.0)
+    F2_strain = float(mid["thr"][1]) / 100.0
+    assert 5 * 2e-4 < shift[1] < F2_strain, shift
+    assert abs(shift[0]) < 4e-4 + 0.1 * float(mid["thr"][0]) / 100.0, shift
+    ds = xr.Dataset({"threshold_lo": (("aspect", "threshold"), [sims["thr"].threshold_lo.values]),
+                     "threshold_hi": (("aspect", "threshold"), [sims["thr"].threshold_hi.values]),
+                     "threshold_lo_stiff": (("aspect", "threshold"), [sims["thr_stiff"].threshold_lo.values]),
+                     "threshold_hi_stiff": (("aspect", "threshold"), [sims["thr_stiff"].threshold_hi.values]),
+                     "aspect_k_ph": (("aspect",), [100.0]), "stiff_k_ph": (("aspect",), [10000.0])})
+    for j in (0, 1):
+        assert bifurcation._bond_term(ds, 0, j)[0] == pytest.approx(shift[j], rel=1e-12)
 
 
 def test_a_transition_keeps_the_shapes_the_run_chooses_and_tests_the_defects():

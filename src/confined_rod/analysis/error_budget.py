@@ -26,7 +26,9 @@ nature:
   For a threshold, the bisection's bracket (half its width) and the discretisation of the Euler
   load of the discrete chain, (sin x/x)^2 - 1 with x = pi l0/(2 lambda) for a buckling half-wave
   of length lambda (L for the first threshold, L/2 for the second, the free span for an escape
-  of Fig 8), replace the ladders.
+  of Fig 8), replace the ladders; where the figure bisected the same rod at a stiffer bond
+  (Fig 3's bond checks), the shift of the threshold from it, to first order in 1/k_ph, is its
+  k_ph term (a frictionless bisection has no seed spread, so no ladder is needed).
 
 The bound of the number's bias is sum_p |delta_p| + t sqrt(sum_p sigma_p^2): a bias is not
 random, so the terms' magnitudes add (no cancellation is assumed, their signs being measured at
@@ -43,6 +45,10 @@ finest rung is two halvings finer, 2 for one), and each term is that first-order
 shift and its standard error times the factor (an overestimate where the order is higher); and
 a shift measured at another rod than the
 number's (another L, friction or load) is *transferred*, flagged per term (``bias_transferred``).
+A transmitted force's shift measured at another length of the same friction and load is carried
+to the number's rod by region (:func:`rescaled`): the bulk's share, a bias of the local decay
+rate, grows with what the bulk adds to 1/|F_z|, the ends' shares stay the same changes of 1/|F_z|;
+at another friction or load there is no such model and the shift is taken as it is.
 
 The headlines come from the figure kinds (an optional ``headlines(figure, ds)`` in a kind module,
 returning :class:`Headline` objects); the ladders are every dataset of kind ``convergence`` with
@@ -95,6 +101,9 @@ class Headline:
     #: degrees of freedom of stat_error: None for n_seeds - 1 (a mean over seeds); inf where
     #: stat_error is already the 95 % half-width over Z95 (a Wilson interval)
     dof: float | None = None
+    #: for a transmitted force: (mean |F_z(L)|, mean of what the bulk adds to 1/|F_z|) over the
+    #: members with a bulk, the rod a ladder's split by region is rescaled to (:func:`rescaled`)
+    force_parts: tuple[float, float] | None = None
 
     @property
     def stat_factor(self) -> float:
@@ -132,6 +141,10 @@ class Ladder:
     #: rung, its standard error, degrees of freedom)}, first-order limit factor), paired seed by seed
     #: from the members the dataset stores; they bound a number computed at coarser numerics
     coarser: tuple = ()
+    #: the publication rung's shift of F(L) split by region (tip, bulk, lower), the covariance of
+    #: the three shares, the rung's mean F(L) and bulk part over the split's seeds, and their
+    #: number; None where the ladder has no split (analysis.figures.convergence._split_by_region)
+    split: tuple | None = None
 
 
 def bias_bound(bias: np.ndarray, se: np.ndarray, t: np.ndarray, has: np.ndarray) -> float:
@@ -164,10 +177,15 @@ def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
         ipub = int(np.flatnonzero(np.isclose(values, float(a["publication_value"]), rtol=1e-9))[0])
         coarser = tuple((float(h[i]), float(values[i]), _shifts_to_finest(ds, i, list(shifts)),
                          first_order_limit_factor(float(h[i]), float(h[finest]))) for i in range(ipub))
+        split = None
+        if "F_shift_by_region_cov" in ds and int(ds["F_shift_by_region_has"].values[ipub]):
+            split = (ds["F_shift_by_region"].values[ipub].copy(), ds["F_shift_by_region_cov"].values[ipub].copy(),
+                     float(ds["F_split_mean"].values[ipub]), float(ds["bulk_part_split_mean"].values[ipub]),
+                     int(ds["F_shift_split_seeds"].values[ipub]))
         out.append(Ladder(name, str(a["parameter"]), float(a["L"]), float(a["load"]), float(a["k_fr"]),
                           str(a.get("protocol", "straight")), shifts,
                           limit_factor=first_order_limit_factor(float(h[ipub]), float(h[finest])),
-                          h_pub=float(h[ipub]), coarser=coarser))
+                          h_pub=float(h[ipub]), coarser=coarser, split=split))
     return out
 
 
@@ -192,6 +210,21 @@ def _shifts_to_finest(ds: xr.Dataset, i: int, quantities: list[str]) -> dict[str
         c = compare(a, b, 1.0, paired=True)
         out[k] = (c.shift, c.se, c.dof)
     return out
+
+
+def rescaled(split: tuple, rod: tuple[float, float]) -> tuple[float, float, float]:
+    """A ladder's shift of F(L) carried to another rod of the same friction and load (module
+    docstring): (shift, its standard error, degrees of freedom). With X_r what region r adds to
+    1/|F_z| and dF/F = -F(L) sum_r dX_r, a bias of the bulk's decay rate (a local relation) changes
+    X_bulk in proportion to X_bulk, while the tip and the lower region, the same at both ends of
+    any long rod of one load and friction, change theirs by the same amount: the bulk's share
+    scales by F_h X_bulk,h / (F_l X_bulk,l), the ends' by F_h / F_l (h the number's rod, l the
+    ladder's). The error from the shares' covariance, the weights being taken as exact."""
+    shares, cov, F_l, X_l, n = split
+    F_h, X_h = rod
+    ends = F_h / F_l
+    w = np.array([ends, F_h * X_h / (F_l * X_l) if X_l > 0 else ends, ends])
+    return float(w @ shares), float(math.sqrt(max(float(w @ cov @ w), 0.0))), float(n - 1)
 
 
 def first_order_limit_factor(h_pub: float, h_fine: float) -> float:
@@ -283,12 +316,16 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
             if term is None:
                 source[i, p] = how
                 continue
+            moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
+            if moved[i, p] and h.quantity == "F_transmitted" and not how and _same(lad.k_fr, h.k_fr) \
+                    and _same(lad.load, h.load) and lad.split is not None and h.force_parts is not None:
+                term = rescaled(lad.split, h.force_parts)
+                how = f"; rescaled by region to this rod, {100 * lad.split[0].sum():+.2g} % at the ladder's"
             # the term is the first-order distance to the limit: the shift from the finest rung
             # times 1/(1 - h_fine/h), with its error (module docstring)
             bias[i, p], bias_se[i, p], dof = factor * term[0], factor * term[1], term[2]
             bias_t[i, p], to_limit[i, p] = t_quantiles(dof)[0], factor
             has_bias[i, p] = 1
-            moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
             source[i, p] = (f"{lad.name} (L/R = {lad.L:g}, k_fr = {lad.k_fr:g}, load = {lad.load:g}"
                             + ("; transferred" if moved[i, p] else "") + how + ")")
         bound[i] = bias_bound(bias[i], bias_se[i], bias_t[i], has_bias[i])
@@ -336,7 +373,8 @@ def expected(quantity: str, protocol: str) -> tuple[str, ...]:
     """The bias terms a headline of this quantity and protocol should have: the threshold terms
     for a threshold, else the ladders (ramp_steps only for a ramp)."""
     if quantity == "threshold":
-        return THRESHOLD_TERMS
+        # and the bond's compliance, where the figure bisected the same rod at a stiffer bond
+        return THRESHOLD_TERMS + ("k_ph",)
     return tuple(p for p in LADDER_PARAMETERS if p != "ramp_steps" or protocol == "ramp")
 
 

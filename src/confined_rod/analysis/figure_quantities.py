@@ -50,12 +50,22 @@ FIGURE_QUANTITIES = [
     Quantity("pitch", "P", "bulk pitch of the helix, 2 pi |dz/dphi| over the middle half of the contact stretch", "R"),
     Quantity("F_shift_by_region", "\\delta F_{region}/F", "share of the relative shift of the transmitted force "
              "|F_z(L)| between the publication rung and the finest rung of a ladder that a region of the rod "
-             "carries, mean over paired seeds of -F(L) times the change of what the region adds to 1/|F_z|", "1"),
+             "carries: the mean over the paired seeds of -F_pub(L) F_fine(L) times the change of what the region "
+             "adds to 1/|F_z|, over the finest rung's mean F(L) (exact: the regions sum to the shift of the mean)",
+             "1"),
     Quantity("F_shift_split_seeds", "n", "paired seeds with a bulk on both rungs over which F_shift_by_region is "
              "taken", "1"),
-    Quantity("F_shift_split_total", "\\delta F/F", "sum over the regions of F_shift_by_region: the first-order "
-             "relative shift of |F_z(L)| over the seeds of the split", "1"),
+    Quantity("F_shift_split_total", "\\delta F/F", "sum over the regions of F_shift_by_region: the "
+             "relative shift of the mean |F_z(L)| over the seeds of the split", "1"),
     Quantity("F_shift_by_region_se", "\\sigma", "standard error of F_shift_by_region over the paired seeds", "1"),
+    Quantity("F_shift_by_region_cov", r"\mathrm{cov}", "covariance of the regions' mean shares F_shift_by_region "
+             "over the paired seeds (the error of a weighted sum of them)", "1"),
+    Quantity("F_split_mean", r"\langle|F_z(L)|\rangle", "mean transmitted force of the rung over the seeds of the "
+             "split by region", "EI R-2"),
+    Quantity("bulk_part_split_mean", r"\langle X_{bulk}\rangle", "mean of what the bulk helix adds to 1/|F_z| "
+             "over the seeds of the split by region, 1/|F(s_bulk_end)| - 1/|F(s_bulk_start)|", "R2 EI-1"),
+    Quantity("bulk_part_member", "X_{bulk}", "what the member's bulk helix adds to 1/|F_z|, "
+             "1/|F(s_bulk_end)| - 1/|F(s_bulk_start)| (0 without a bulk)", "R2 EI-1"),
     Quantity("pitch_theory", "P_{th}", "pitch of the discrete chain's torque-free helix on the wall at the load, "
              "2 pi l0 sqrt(1 - R^2 w^2)/(2 asin(w l0/2)) (theory.discrete_helix)", "R"),
     Quantity("value", "", "value of the refined parameter", "1"),
@@ -139,6 +149,13 @@ FIGURE_QUANTITIES = [
     Quantity("L2_over_EI", "L^2/EI", "L^2/EI of the thresholds scene (scales a load to Euler units)", "R2 EI-1"),
     Quantity("aspect", "L/R", "aspect ratio of the rod", "1"),
     Quantity("l0_over_R", "l_0/R", "link length of the threshold scene over its pore radius", "1"),
+    Quantity("aspect_k_ph", "k_{ph}", "stretching stiffness of the threshold scene", "EI R-2"),
+    Quantity("has_stiff_twin", "", "1 where the same rod was also bisected at a stiffer bond (a bond check)", "1"),
+    Quantity("stiff_k_ph", "k_{ph}", "stretching stiffness of the bond check (0 where there is none)", "EI R-2"),
+    Quantity("threshold_lo_stiff", "F_{lo}", "lower end of the bisection bracket of the same rod at the stiffer "
+             "bond (0 where there is none)", "EI R-2"),
+    Quantity("threshold_hi_stiff", "F_{hi}", "upper end of the bisection bracket of the same rod at the stiffer "
+             "bond (0 where there is none)", "EI R-2"),
     Quantity("R2_over_EI", "R^2/EI", "R^2/EI of the threshold scene (scales a load to units of EI/R^2)", "R2 EI-1"),
     Quantity("branch_k_fr", "k_{fr}", "friction coefficient of the sweep", "1"),
     Quantity("branch_protocol", "", "protocol of the sweep (start of each fresh run, or of the first load)", "1"),
@@ -158,6 +175,11 @@ FIGURE_QUANTITIES = [
              "planar, defects (helix with a reversal of handedness), straight or twisted (out of a plane, not coiled)",
              "1"),
     Quantity("n_seeds", "n", "members of the seed ensemble", "1"),
+    Quantity("loosely_wound_member", "", "1 where the member's bulk helix is loosely wound: a wall force per length "
+             "below half the torque-free helix's (analysis.local_relations.loosely_wound); its ratios to the "
+             "torque-free helix are left out of the ensemble's means", "1"),
+    Quantity("n_loosely_wound", "", "members whose bulk helix is loosely wound (left out of the means of the "
+             "ratios to the torque-free helix)", "1"),
     Quantity("F_mean", r"\langle|F_z(L)|\rangle", "ensemble mean of the transmitted force", "EI R-2"),
     Quantity("F_std", r"\sigma", "ensemble standard deviation of the transmitted force (ddof = 1; 0 for one "
              "member)", "EI R-2"),

@@ -7,6 +7,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import ConfigError
+from .. import local_relations, regions
 from ..figure_quantities import attrs, variable
 
 #: the Scene field that names a scene: never compared by same_except
@@ -50,3 +51,28 @@ def tol_effective(sim: xr.Dataset) -> float:
     """The equilibrium tolerance a run was tested at: its round-off floor where that exceeds tol
     (limits.equilibrium_tol, stored as ``tol_effective``), else tol."""
     return float(sim.attrs.get("tol_effective", sim.attrs["tol"]))
+
+
+def loosely_wound(sim: xr.Dataset, analysis) -> bool:
+    """Whether the run's bulk helix is loosely wound (analysis.local_relations.loosely_wound; False
+    without a wall force ratio to read): its decay rate is then left out of the ensemble's mean of
+    the decay law, whose torque-free premise it breaks. ``analysis``: the run's regions.analyse."""
+    if "wall_force_density" not in sim:
+        return False
+    return bool(local_relations.loosely_wound(local_relations.measure(sim, analysis)))
+
+
+def bulk_part(sim: xr.Dataset, analysis) -> float:
+    """What the run's bulk helix adds to 1/|F_z| (regions.force_parts), 0 without a bulk."""
+    parts = regions.force_parts(sim, analysis)
+    return float(parts["bulk"]) if parts else 0.0
+
+
+def rod_parts(F: np.ndarray, part: np.ndarray, has_bulk: np.ndarray) -> tuple[float, float] | None:
+    """(mean |F_z(L)|, mean bulk part of 1/|F_z|) over the members with a bulk: the rod an error
+    budget rescales a ladder's split by region to (analysis.error_budget.rescaled); None without
+    a bulk."""
+    ok = np.asarray(has_bulk) == 1
+    if not ok.any():
+        return None
+    return float(np.mean(np.asarray(F)[ok])), float(np.mean(np.asarray(part)[ok]))

@@ -66,6 +66,23 @@ def _split(fig_cfg, built):
     return sweeps, thr
 
 
+def stiff_twins(thr: dict[str, tuple[float, float, float, float]]) -> tuple[list[str], dict[str, str]]:
+    """(the thresholds rows of panel (b), {row: its stiff twin}) from ``thr`` = {scene: (L, R, l0,
+    k_ph)}: scenes of one rod (L, R, l0) that differ in k_ph are a bond check; the softest is the
+    figure's row, the stiffest the twin its threshold is compared with (the bias of a finite k_ph:
+    error_budget's k_ph term)."""
+    rods: dict[tuple[float, float, float], list[str]] = {}
+    for n, (L, R, l0, _) in thr.items():
+        rods.setdefault((L, R, l0), []).append(n)
+    rows, twins = [], {}
+    for names in rods.values():
+        names = sorted(names, key=lambda n: thr[n][3])
+        rows.append(names[0])
+        if len(names) > 1 and thr[names[-1]][3] > thr[names[0]][3]:
+            twins[names[0]] = names[-1]
+    return [n for n in thr if n in rows], twins
+
+
 def validate(figure, fig_cfg, built) -> None:
     check_scene_keys(figure, "runs", fig_cfg.get("runs"), built)
     missing = [n for n in built if n not in fig_cfg.get("runs", {})]
@@ -106,7 +123,13 @@ def caption(figure, fig_cfg, built) -> str:
     rod = next(iter(sweeps.values()))
     runs = fig_cfg["runs"]
     desc = "; ".join(f"{n}: {runs[n]}, protocol {sc.protocol}, k_fr = {sc.k_fr:g}" for n, sc in sweeps.items())
-    aspects = ", ".join(f"{sc.L / sc.R:g}" for sc in thr.values())
+    rows, twins = stiff_twins({n: (sc.L, sc.R, sc.l0, sc.k_ph) for n, sc in thr.items()})
+    aspects = ", ".join(f"{thr[n].L / thr[n].R:g}" for n in rows)
+    bond = ("" if not twins else
+            " The same rods at a stiffer bond (k_ph = "
+            + ", ".join(sorted({f"{thr[t].k_ph:g}" for t in twins.values()}))
+            + f" at L/R = {', '.join(f'{thr[n].L / thr[n].R:g}' for n in twins)}) give each threshold's bias of a "
+            "finite k_ph (error budget).")
     g = fig_cfg["loads"]
     return (f"(a) Projection L_z of a rod of L/R = {rod.L / rod.R:g} on the pore axis against the load "
             f"({g['n']} loads from {g['min']:g} to {g['max']:g} EI/R^2): {desc}. Colours give the class of "
@@ -117,7 +140,7 @@ def caption(figure, fig_cfg, built) -> str:
             f"4 pi^2 EI/L^2. (b) Both thresholds times L^2/EI against L/R = {aspects} with those estimates "
             f"(relative precision {fig_cfg.get('precision', 1e-3):g}). Frictionless is the reference because "
             "static friction can hold buckled states that are unstable without it; a frictional sweep, where "
-            "given, shows how the picture changes.")
+            "given, shows how the picture changes." + bond)
 
 
 def _bend_stiffness(d: xr.Dataset) -> float:
@@ -129,7 +152,8 @@ def _bend_stiffness(d: xr.Dataset) -> float:
 def build(fig_cfg, sims, context=None) -> xr.Dataset:
     runs = fig_cfg["runs"]
     sweeps = [n for n in sims if runs[n] in SWEEPS]
-    thr = [n for n in sims if runs[n] == "thresholds"]
+    thr, twins = stiff_twins({n: tuple(float(sims[n].attrs[k]) for k in ("L", "R", "l0", "k_ph"))
+                              for n in sims if runs[n] == "thresholds"})
     loads = load_grid(fig_cfg)
     data: dict[str, xr.Variable] = {}
 
@@ -171,6 +195,17 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
     data["aspect_scene"] = scene_coord("aspect", thr)
     data["aspect_l0"] = variable(("aspect",), [float(sims[n].attrs["l0"]) / float(sims[n].attrs["R"]) for n in thr],
                                  "l0_over_R")
+    # the same rod at a stiffer bond (a bond check): its thresholds, 0 where there is none
+    stiff = [sims[twins[n]] if n in twins else None for n in thr]
+    data["has_stiff_twin"] = variable(("aspect",), np.array([d is not None for d in stiff], dtype=np.int8),
+                                      "has_stiff_twin")
+    data["stiff_k_ph"] = variable(("aspect",), [float(d.attrs["k_ph"]) if d is not None else 0.0 for d in stiff],
+                                  "stiff_k_ph")
+    data["aspect_k_ph"] = variable(("aspect",), [float(sims[n].attrs["k_ph"]) for n in thr], "aspect_k_ph")
+    for side in ("lo", "hi"):
+        data[f"threshold_{side}_stiff"] = variable(
+            ("aspect", "threshold"), [d[f"threshold_{side}"].sel(threshold=["first", "second"]).values
+                                      if d is not None else np.zeros(2) for d in stiff], f"threshold_{side}_stiff")
     coords = {"load": variable(("load",), loads, "load"), "branch": scene_coord("branch", sweeps),
               "aspect": variable(("aspect",), aspect, "aspect"),
               "threshold": variable(("threshold",), np.array(["first", "second"], dtype=object), "threshold")}
@@ -208,15 +243,30 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
             unit = float(ds["L2_over_EI"].values[i]) / np.pi**2
             l0_over_L = float(ds["aspect_l0"].values[i]) / float(aspect)
             scene = str(ds["aspect_scene"].values[i])
+            terms = {"bracket": ((hi - lo) / (hi + lo), "half the bisection's bracket"),
+                     "discretisation": (euler_discretisation(l0_over_L, HALF_WAVE[str(which)]),
+                                        "Euler load of the discrete chain (theory)")}
+            if "has_stiff_twin" in ds and int(ds["has_stiff_twin"].values[i]):
+                terms["k_ph"] = _bond_term(ds, i, j)
             out.append(Headline(
                 f"{figure}.{which}_threshold.{scene}", figure,
                 f"{which} threshold [pi^2 EI/L^2], L/R = {aspect:g} ({scene})", 0.5 * (lo + hi) * unit, 0.0, 1,
                 "threshold", float(aspect), 0.5 * (lo + hi), float(ds.attrs.get("k_fr", 0.0)),
-                terms={"bracket": ((hi - lo) / (hi + lo), "half the bisection's bracket"),
-                       "discretisation": (euler_discretisation(l0_over_L, HALF_WAVE[str(which)]),
-                                          "Euler load of the discrete chain (theory)")},
+                terms=terms,
                 note="bisection of one frictionless run per load: no seed spread", dof=math.inf))
     return out
+
+
+def _bond_term(ds: xr.Dataset, i: int, j: int) -> tuple[float, str]:
+    """The k_ph bias term of threshold j of row i: its shift from the same rod at the stiffer bond,
+    mid/mid_stiff - 1, times 1/(1 - k_ph/k_ph_stiff), the first-order distance to the rigid-bond
+    limit in h = 1/k_ph (error_budget.bias_limit_factor); the two brackets' halves are within it
+    to their own size (the bracket term)."""
+    mid = 0.5 * (float(ds["threshold_lo"].values[i, j]) + float(ds["threshold_hi"].values[i, j]))
+    stiff = 0.5 * (float(ds["threshold_lo_stiff"].values[i, j]) + float(ds["threshold_hi_stiff"].values[i, j]))
+    k, k_stiff = float(ds["aspect_k_ph"].values[i]), float(ds["stiff_k_ph"].values[i])
+    return ((mid / stiff - 1.0) / (1.0 - k / k_stiff),
+            f"the same rod at k_ph = {k_stiff:g} (bisection), to first order in 1/k_ph")
 
 
 def plot(ds: xr.Dataset):

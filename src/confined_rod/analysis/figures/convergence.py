@@ -36,7 +36,11 @@ no per-seed question of the final state has an answer. Two questions do:
    local force; they move with the locked torque, a property of the state): the shift of the
    ensemble mean, with the resolution at 95 % power and the Anderson-Darling k-sample p-value
    (analysis.distributions); the windings, reversals and the lower region's length are compared
-   by their p-values in the notes.
+   by their p-values in the notes. The ratios to the torque-free helix are compared over the
+   tightly wound seeds: a loosely wound bulk (analysis.local_relations.loosely_wound, wall force
+   below half the torque-free helix's: a locked torque) breaks their premise and is another
+   equilibrium, whose share is described like a winding (McNemar's exact test on paired seeds,
+   Fisher's unpaired), not decided.
 
 What a ladder vouches for (``serves``). A ladder that names the figure scenes it stands behind
 (the same rod as its publication rung) holds each final-state quantity those figures report to
@@ -395,6 +399,8 @@ def _member_values(sim: xr.Dataset) -> dict[str, float | None]:
     frictional = float(sim.attrs["k_fr"]) > 0
     an = regions.analyse(sim) if frictional else None
     out.update(local_relations.measure(sim, an))
+    loose = local_relations.loosely_wound(out)
+    out["loosely_wound"] = None if loose is None else float(loose)
     out["lower_length"] = float(regions.summary(sim, an)["lower_length"]) if frictional else None
     # the share of the Coulomb limit the lower region's contacts carry axially (where the frictional
     # l0 ladder's shift of F(L) sits: docs/model.md, "What l0 changes")
@@ -461,6 +467,9 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     finer = list(range(ipub + 1, len(values)))
     table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp", "deciding")}
     notes, decisive = [], []
+    members = _tightly_wound(members)
+    if "loosely_wound" in members:
+        notes += [_loose_share(members["loosely_wound"], has, seeds, values, ipub, j) for j in finer]
     state_tol = state_tolerances(members, has, (ipub, len(values) - 1), dist_tol, served)
     if not finer:
         return "inconclusive: no rung finer than the publication value", ["no finer rung"], table
@@ -527,6 +536,43 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary}){told}", notes, table
 
 
+def _tightly_wound(members: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """``members`` with the ratios to the torque-free helix (local_relations.TORQUE_FREE) left out
+    (NaN) for the loosely wound members (local_relations.loosely_wound): their premise fails there,
+    so they are compared over the tightly wound seeds, and the loosely wound share is described
+    (:func:`_loose_share`) as windings and reversals are."""
+    loose = members.get("loosely_wound")
+    if loose is None:
+        return dict(members)
+    return {k: (np.where(loose == 1.0, math.nan, v) if k in local_relations.TORQUE_FREE else v)
+            for k, v in members.items()}
+
+
+def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, values: np.ndarray,
+                 i: int, j: int) -> str:
+    """One note: how many members of rungs i and j are loosely wound, and whether the shares
+    differ: paired seeds by McNemar's exact test (the seeds loosely wound on one rung only, split
+    half and half under equal shares), unpaired by Fisher's exact test; not deciding (another
+    equilibrium, as a winding is)."""
+    from scipy.stats import binomtest, fisher_exact
+
+    a, b = aligned(loose, has, seeds, i, j)
+    na, nb = int(a.sum()), int(b.sum())
+    head = (f"loosely wound at {values[i]:g} against {values[j]:g}: {na} of {a.size} and {nb} of {b.size} seeds "
+            f"(wall force below {local_relations.LOOSE_WALL_RATIO:g} of the torque-free helix's; their ratios to it "
+            "are left out of the comparisons)")
+    if not na and not nb:
+        return head + "; described, not deciding"
+    if seeds is not None:
+        only_a, only_b = int(((a == 1) & (b == 0)).sum()), int(((a == 0) & (b == 1)).sum())
+        p = binomtest(min(only_a, only_b), only_a + only_b, 0.5).pvalue if only_a + only_b else 1.0
+        test = f"McNemar exact p = {p:.2g} ({only_a} and {only_b} seeds loosely wound on one rung only)"
+    else:
+        p = fisher_exact([[na, a.size - na], [nb, b.size - nb]]).pvalue
+        test = f"Fisher exact p = {p:.2g}"
+    return f"{head}; {test}; described, not deciding (another equilibrium, as a winding is)"
+
+
 def aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
     """The values of rungs i and j: every member with a value (seeds None), or the seeds both
     rungs have a value for, in one order (paired)."""
@@ -555,9 +601,12 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
     pad = ensembles.Padded(groups, sims)
     has = pad.has
     per_run = {id(d): _member_values(d) for d in sims.values()}
-    keys = (*RELATION_KEYS, *STATE_KEYS, *DESCRIPTOR_KEYS)
+    keys = (*RELATION_KEYS, *STATE_KEYS, *DESCRIPTOR_KEYS, "loosely_wound")
     members = {k: pad.values(lambda d, k=k: _or_nan(per_run[id(d)][k]), fill=math.nan) for k in keys}
     members = {k: v for k, v in members.items() if np.isfinite(v[has == 1]).any()}
+    # the stored means of the ratios to the torque-free helix are those compared: tightly wound seeds
+    loose = members.get("loosely_wound")
+    members = _tightly_wound(members)
     seeds = pad.values(lambda d: float(d.attrs["seed"]))
     served = list((context or {}).get("served") or [])
     status, notes, table = ladder_verdict(values, members, has, ipub, tol, dist_tol, seeds=seeds.astype(np.int64),
@@ -596,6 +645,10 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
         cmp_vars["dof"][j, q] = -1.0 if math.isinf(c.dof) else c.dof       # -1: the normal limit
     for name, arr in cmp_vars.items():
         data[f"cmp_{name}"] = variable(("rung", "quantity"), arr, name)
+    if loose is not None:
+        flag = (has == 1) & (loose == 1.0)
+        data["loosely_wound_member"] = variable(("rung", "member"), flag.astype(np.int8), "loosely_wound_member")
+        data["n_loosely_wound"] = variable(("rung",), flag.sum(axis=1), "n_loosely_wound")
     data["n_turns_member"] = xr.Variable(("rung", "member"), pad.values(n_turns), attrs={
         **attrs("n_turns"), "long_name": attrs("n_turns")["long_name"] + " of each ensemble member"})
     data["has_member"] = variable(("rung", "member"), has, "has_member")
@@ -637,11 +690,20 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
                                                                          dtype=np.int8),
                                                     attrs={"long_name": "1 where the rung's shift against the finest "
                                                            "rung is split by region", "units": "1"})
+        nr = len(regions.REGIONS)
+        data["F_shift_by_region_cov"] = variable(("rung", "region", "region_b"), np.array(
+            [sp[3] if sp else np.zeros((nr, nr)) for sp in splits] + [np.zeros((nr, nr))]), "F_shift_by_region_cov")
+        data["F_split_mean"] = variable(("rung",), [sp[4][0] if sp else 0.0 for sp in splits] + [0.0], "F_split_mean")
+        data["bulk_part_split_mean"] = variable(("rung",), [sp[4][1] if sp else 0.0 for sp in splits] + [0.0],
+                                                "bulk_part_split_mean")
         coords["region"] = xr.Variable(("region",), np.array(regions.REGIONS, dtype=object), attrs=attrs("rod_region"))
+        coords["region_b"] = xr.Variable(("region_b",), np.array(regions.REGIONS, dtype=object),
+                                         attrs=attrs("rod_region"))
         for i, sp in enumerate(splits):
             if sp is not None:
                 notes.append(f"F_transmitted at {values[i]:g} against {values[-1]:g} by region from the loaded end "
-                             f"({sp[2]} paired seeds, -F(L) times the change of what the region adds to 1/|F_z|): "
+                             f"({sp[2]} paired seeds, -F_i(L) F_j(L) times the change of what the region adds to "
+                             "1/|F_z| over the mean F_j(L): the regions sum to the shift of the mean): "
                              + ", ".join(f"{r} {100 * a:+.2g} +- {100 * b:.2g} %"
                                          for r, a, b in zip((*regions.REGIONS, "sum"), sp[0], sp[1])))
     ds = xr.Dataset(data, coords=coords)
@@ -667,11 +729,19 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
     return ds
 
 
-def _split_by_region(sims, groups, i: int, j: int) -> tuple[np.ndarray, np.ndarray, int] | None:
-    """Where along the rod the transmitted force of rung i moves against rung j: per seed both rungs
-    ran with a bulk, -F_j(L) (X_i - X_j) for what each region adds to 1/|F_z| (regions.force_parts),
-    which sum to the first-order relative shift of F(L); their means over the seeds with standard
-    errors, and the number of seeds. None without friction or with fewer than two such seeds."""
+def _split_by_region(sims, groups, i: int, j: int) -> tuple | None:
+    """Where along the rod the transmitted force of rung i moves against rung j, over the seeds
+    that ran with a bulk on both: with X_r what region r adds to 1/|F_z| (regions.force_parts;
+    they sum to 1/F(L) - 1/F(0), F(0) the load on both rungs), per seed exactly
+    F_i - F_j = -F_i F_j sum_r (X_r,i - X_r,j), so the shift of the ensemble mean,
+    sum_s (F_i - F_j) / sum_s F_j, is the sum over the regions of
+    mean_s(-F_i F_j dX_r) / mean_s(F_j): each region's share, exact also for a seed that jumped
+    to another state (a first-order split, -F_j dX_r, does not close there). Their means with
+    standard errors (the spread of the per-seed shares over sqrt(n)) and the number of seeds; the
+    fourth column is their sum, the shift of the mean over these seeds; then the covariance of
+    the three regions' mean shares, and rung i's mean F(L) and mean bulk part X_bulk over these
+    seeds (what the error budget rescales the shares to another rod with). None without friction
+    or with fewer than two such seeds."""
     if any(float(d.attrs["k_fr"]) <= 0.0 for d in sims.values()):
         return None
 
@@ -688,10 +758,17 @@ def _split_by_region(sims, groups, i: int, j: int) -> tuple[np.ndarray, np.ndarr
     common = sorted(set(a) & set(b))
     if len(common) < 2:
         return None
-    d = np.array([[-b[s][1] * (a[s][0][r] - b[s][0][r]) for r in regions.REGIONS] for s in common])
-    # the regions' sum as a fourth column: the first-order shift of F(L) over these seeds
+    mean_j = float(np.mean([b[s][1] for s in common]))
+    d = np.array([[-a[s][1] * b[s][1] * (a[s][0][r] - b[s][0][r]) / mean_j for r in regions.REGIONS]
+                  for s in common])
+    n = len(common)
+    # the covariance of the regions' mean shares (a rescaled sum's error: analysis.error_budget)
+    cov = np.cov(d, rowvar=False, ddof=1) / n
+    # the regions' sum as a fourth column: the shift of the mean F(L) over these seeds
     d = np.column_stack([d, d.sum(axis=1)])
-    return d.mean(axis=0), d.std(axis=0, ddof=1) / math.sqrt(len(common)), len(common)
+    # the rod the shares were measured on (rung i): its mean F(L) and what its bulk adds to 1/|F_z|
+    at_i = (float(np.mean([a[s][1] for s in common])), float(np.mean([a[s][0]["bulk"] for s in common])))
+    return d.mean(axis=0), d.std(axis=0, ddof=1) / math.sqrt(n), n, cov, at_i
 
 
 def _or_nan(v) -> float:
@@ -831,10 +908,15 @@ def plot(ds: xr.Dataset):
                     word = f"{verdict} {100 * tol:.2g} % (described)"
                 else:
                     word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %"
+                left = ""
+                if k in local_relations.TORQUE_FREE and int(ds.get("n_loosely_wound", xr.DataArray(0)).sum()):
+                    left = ("\nloosely wound, left out: "
+                            + ", ".join(f"{n} at {v:g}" for n, v in zip(ds["n_loosely_wound"].values,
+                                                                         ds["value"].values) if n))
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
-                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %\n{word}", fontsize=7.5)
+                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %\n{word}{left}", fontsize=7.5)
             else:
                 ax.set_title("not compared (fewer than two values)", fontsize=7.5)
         elif k in checked:

@@ -29,7 +29,7 @@ from ..error_budget import Headline
 from ..figure_quantities import attrs, error_attrs, label, variable
 from ..fits import PARAMS, FitError, determined, fit_power_law, power_law, undetermined
 from ..measure import HELIX_RUN, contact_range, euler_ratio, n_turns
-from ._common import check_scene_keys, same_except, tol_effective
+from ._common import bulk_part, check_scene_keys, loosely_wound, rod_parts, same_except, tol_effective
 
 _PAPER_FIT = {"type": "object", "additionalProperties": False, "required": ["A", "l0", "c"],
               "properties": {"A": {"type": "number", "exclusiveMinimum": 0},
@@ -215,13 +215,15 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
             a = regions.analyse(sims[m])
             fb, fall_w, fall_b = _bulk_fit(sims[m], a)
             per_member[m] = (a.bulk.rate if a.bulk else np.nan, fb.c if fb else np.nan,
-                             a.regions.tip_length, a.regions.lower_length, fall_w, fall_b)
-    grid = np.zeros(has.shape + (6,))
+                             a.regions.tip_length, a.regions.lower_length, fall_w, fall_b,
+                             float(a.bulk is not None and loosely_wound(sims[m], a)), bulk_part(sims[m], a))
+    grid = np.zeros(has.shape + (8,))
     for i, members in enumerate(panels.values()):
         for j, m in enumerate(members):
             grid[i, j] = per_member[m]
-    rate, cb, tip_len, low_len, fall_w, fall_b = (grid[..., k] for k in range(6))
+    rate, cb, tip_len, low_len, fall_w, fall_b, loose, bpart = (grid[..., k] for k in range(8))
     has_rate = (np.isfinite(rate) & (has == 1)).astype(np.int8)
+    loose = ((loose == 1.0) & (has_rate == 1)).astype(np.int8)
     rate = np.where(has_rate == 1, rate, 0.0)
     has_cb = (np.isfinite(cb) & (has == 1)).astype(np.int8)
     cb = np.where(has_cb == 1, cb, 0.0)
@@ -261,8 +263,11 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     ds["lower_length_member"] = variable(PM, low_len, "lower_length_member")
     ds["fall_whole_member"] = variable(PM, np.where(has == 1, fall_w, 0.0), "fall_whole_member")
     ds["fall_bulk_member"] = variable(PM, np.where(has_cb == 1, fall_b, 0.0), "fall_bulk_member")
+    ds["loosely_wound_member"] = variable(PM, loose, "loosely_wound_member")
+    ds["bulk_part_member"] = variable(PM, np.where(has == 1, bpart, 0.0), "bulk_part_member")
     sure_bulk = determined(cb, fall_b, has_cb)
-    for name, vals, ok in (("bulk_decay_rate", rate, has_rate == 1), ("fit_c_bulk", cb, sure_bulk)):
+    # the decay law's mean over the tightly wound bulks (a loosely wound one breaks its premise)
+    for name, vals, ok in (("bulk_decay_rate", rate, (has_rate == 1) & (loose == 0)), ("fit_c_bulk", cb, sure_bulk)):
         st_ = [ensembles.stats(vals[i, ok[i]]) if ok[i].any() else None for i in range(len(panels))]
         ds[f"{name}_mean"] = variable(P, [x.mean if x else 0.0 for x in st_], f"{name}_mean")
         ds[f"{name}_std"] = variable(P, [x.std if x else 0.0 for x in st_], f"{name}_std")
@@ -443,8 +448,13 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
                             float(ds["transmitted_fraction"].values[i]),
                             float(ds["fraction_sem"].values[i]) if n > 1 else None, n, "F_transmitted", L, load, k_fr,
                             protocol, note="ensemble mean over seeds; statistical error sd/sqrt(n)",
-                            numerics=numerics))
+                            numerics=numerics,
+                            force_parts=rod_parts(ds["fraction_member"].values[i] * load,
+                                                  ds["bulk_part_member"].values[i], ds["has_bulk_member"].values[i])
+                            if "bulk_part_member" in ds else None))
         nb = int(ds["has_bulk_member"].values[i].sum())
+        n_loose = int(ds["loosely_wound_member"].values[i].sum()) if "loosely_wound_member" in ds else 0
+        nb -= n_loose
         model = float(ds["decay_rate_model"].values[i])
         if nb and k_fr > 0 and model > 0:
             out.append(Headline(f"{figure}.decay_ratio.{panel}", figure,
@@ -452,7 +462,9 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
                                 float(ds["bulk_decay_rate_mean"].values[i]) / model,
                                 float(ds["bulk_decay_rate_std"].values[i]) / model / np.sqrt(nb) if nb > 1 else None,
                                 nb, "decay_ratio", L, load, k_fr, protocol,
-                                note="mean over the seeds with a bulk helix; statistical error sd/sqrt(n)",
+                                note="mean over the seeds with a tightly wound bulk helix"
+                                     + (f" ({n_loose} loosely wound left out)" if n_loose else "")
+                                     + "; statistical error sd/sqrt(n)",
                                 numerics=numerics))
     return out
 

@@ -19,7 +19,16 @@ from .. import plotting as P
 from ..error_budget import Headline
 from ..figure_quantities import label, variable
 from ..measure import n_turns
-from ._common import need_scenes, per_scene, same_except, scene_coord, tol_effective
+from ._common import (
+    bulk_part,
+    loosely_wound,
+    need_scenes,
+    per_scene,
+    rod_parts,
+    same_except,
+    scene_coord,
+    tol_effective,
+)
 
 OPTIONS: dict = {}
 REGION_KEYS = regions.SUMMARY_KEYS
@@ -126,17 +135,25 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
     analyses = {n: regions.analyse(sims[n]) for g in groups for n in g}
     rate, tip, low = (np.zeros(has.shape) for _ in range(3))
     has_bulk = np.zeros(has.shape, dtype=np.int8)
+    loose = np.zeros(has.shape, dtype=np.int8)
+    part = np.zeros(has.shape)
     for i, g in enumerate(groups):
         for j, n in enumerate(g):
             a = analyses[n]
             has_bulk[i, j] = int(a.bulk is not None)
+            loose[i, j] = int(a.bulk is not None and loosely_wound(sims[n], a))
+            part[i, j] = bulk_part(sims[n], a)
             rate[i, j] = a.bulk.rate if a.bulk else 0.0
             tip[i, j], low[i, j] = a.regions.tip_length, a.regions.lower_length
     ds["bulk_decay_rate_member"] = variable(("L", "member"), rate, "bulk_decay_rate_member")
     ds["has_bulk_member"] = variable(("L", "member"), has_bulk, "has_bulk_member")
     ds["tip_length_member"] = variable(("L", "member"), tip, "tip_length_member")
     ds["lower_length_member"] = variable(("L", "member"), low, "lower_length_member")
-    rst = [ensembles.stats(rate[i, has_bulk[i] == 1]) if has_bulk[i].any() else None for i in range(len(groups))]
+    ds["loosely_wound_member"] = variable(("L", "member"), loose, "loosely_wound_member")
+    ds["bulk_part_member"] = variable(("L", "member"), part, "bulk_part_member")
+    # the decay law's mean over the tightly wound bulks (a loosely wound one breaks its premise)
+    tight = (has_bulk == 1) & (loose == 0)
+    rst = [ensembles.stats(rate[i, tight[i]]) if tight[i].any() else None for i in range(len(groups))]
     ds["bulk_decay_rate_mean"] = variable(("L",), [x.mean if x else 0.0 for x in rst], "bulk_decay_rate_mean")
     ds["bulk_decay_rate_std"] = variable(("L",), [x.std if x else 0.0 for x in rst], "bulk_decay_rate_std")
     ds["member_class"].attrs.update({"flag_values": np.arange(len(ensembles.CLASSES), dtype=np.int8),
@@ -167,7 +184,9 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
             float(ds["F_sem"].values[i]) / load if ensemble and int(ds["n_seeds"].values[i]) > 1 else None,
             int(ds["n_seeds"].values[i]) if ensemble else 1, "F_transmitted", float(L), load, k_fr, protocol,
             note="ensemble mean over seeds; statistical error sd/sqrt(n)",
-            numerics={"tol": float(ds["tol_effective"].values[i])} if "tol_effective" in ds else {}))
+            numerics={"tol": float(ds["tol_effective"].values[i])} if "tol_effective" in ds else {},
+            force_parts=rod_parts(ds["F_member"].values[i], ds["bulk_part_member"].values[i],
+                                  ds["has_bulk_member"].values[i]) if "bulk_part_member" in ds else None))
     return out
 
 
