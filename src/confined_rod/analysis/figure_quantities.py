@@ -176,10 +176,10 @@ FIGURE_QUANTITIES = [
              "1"),
     Quantity("n_seeds", "n", "members of the seed ensemble", "1"),
     Quantity("loosely_wound_member", "", "1 where the member's bulk helix is loosely wound: a wall force per length "
-             "below half the torque-free helix's (analysis.local_relations.loosely_wound); its ratios to the "
-             "torque-free helix are left out of the ensemble's means", "1"),
-    Quantity("n_loosely_wound", "", "members whose bulk helix is loosely wound (left out of the means of the "
-             "ratios to the torque-free helix)", "1"),
+             "below half the torque-free helix's, an unwinding torque locked in (analysis.local_relations.loosely_wound)",
+             "1"),
+    Quantity("n_loosely_wound", "", "members whose bulk helix is loosely wound "
+             "(analysis.local_relations.loosely_wound)", "1"),
     Quantity("F_mean", r"\langle|F_z(L)|\rangle", "ensemble mean of the transmitted force", "EI R-2"),
     Quantity("F_std", r"\sigma", "ensemble standard deviation of the transmitted force (ddof = 1; 0 for one "
              "member)", "EI R-2"),

@@ -57,7 +57,7 @@ RELATIONS = ("decay_ratio", "wall_force_ratio", "pitch_ratio", "helix_balance")
 #: others compare with the torque-free helix and move with the state
 UNIVERSAL = ("helix_balance",)
 #: the ratios to the torque-free helix: their premise (no locked torque) is what a loosely wound
-#: bulk breaks (:func:`loosely_wound`)
+#: bulk breaks (:func:`loosely_wound`); compared as distributions of the state
 TORQUE_FREE = tuple(k for k in RELATIONS if k not in UNIVERSAL)
 #: a bulk whose wall force per length is below this share of the torque-free helix's R F_z^2/(4EI)
 #: is loosely wound (:func:`loosely_wound`)
@@ -157,9 +157,10 @@ def loosely_wound(measured: dict[str, float | None]) -> bool | None:
     wall force together. The decay law d(1/|F_z|)/ds = k_fr R/(4EI) follows from the torque-free
     K = R F_z^2/(4EI) at the Coulomb limit (docs/model.md); with K at a quarter of it the bulk
     still slides at the Coulomb limit, so its decay rate is a quarter of the law's: another
-    equilibrium, whose share of an ensemble is a property of the loading path, not a
-    discretisation error. Seen in the ramp of Fig 4(b) (k_fr 0.3): 0.25 and 0.27 against 0.9-1.15
-    for the other seeds (the threshold sits in that gap). Test twin: tests/test_local_relations.py
-    builds helices with a prescribed K."""
+    equilibrium, whose share of an ensemble the loading path sets. A description, not a filter:
+    at the publication build's ramps (load 0.25, L = 320 R) two seeds of Fig 4(b)'s rod (k_fr 0.3,
+    512 steps) read 0.21 and 0.24 against 0.89-1.09 for all others, a gap; every seed of Fig 4(c)'s
+    rod (k_fr 0.8) reads 0.08-0.29, and Fig 4(a)'s (k_fr 0.1) spread over 0.45-0.95, across the
+    threshold. Test twin: tests/test_local_relations.py builds helices with a prescribed K."""
     r = measured.get("wall_force_ratio")
     return None if r is None else bool(r < LOOSE_WALL_RATIO)

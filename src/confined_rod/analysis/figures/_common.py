@@ -55,8 +55,8 @@ def tol_effective(sim: xr.Dataset) -> float:
 
 def loosely_wound(sim: xr.Dataset, analysis) -> bool:
     """Whether the run's bulk helix is loosely wound (analysis.local_relations.loosely_wound; False
-    without a wall force ratio to read): its decay rate is then left out of the ensemble's mean of
-    the decay law, whose torque-free premise it breaks. ``analysis``: the run's regions.analyse."""
+    without a wall force ratio to read): a locked torque, under which the torque-free decay law does
+    not hold; the figures store it per member. ``analysis``: the run's regions.analyse."""
     if "wall_force_density" not in sim:
         return False
     return bool(local_relations.loosely_wound(local_relations.measure(sim, analysis)))

@@ -36,11 +36,10 @@ no per-seed question of the final state has an answer. Two questions do:
    local force; they move with the locked torque, a property of the state): the shift of the
    ensemble mean, with the resolution at 95 % power and the Anderson-Darling k-sample p-value
    (analysis.distributions); the windings, reversals and the lower region's length are compared
-   by their p-values in the notes. The ratios to the torque-free helix are compared over the
-   tightly wound seeds: a loosely wound bulk (analysis.local_relations.loosely_wound, wall force
-   below half the torque-free helix's: a locked torque) breaks their premise and is another
-   equilibrium, whose share is described like a winding (McNemar's exact test on paired seeds,
-   Fisher's unpaired), not decided.
+   by their p-values in the notes, and so is the share of loosely wound seeds
+   (analysis.local_relations.loosely_wound: a bulk whose wall force is below half the torque-free
+   helix's, an unwinding torque locked in; McNemar's exact test on paired seeds, Fisher's
+   unpaired): another equilibrium, as a winding is.
 
 What a ladder vouches for (``serves``). A ladder that names the figure scenes it stands behind
 (the same rod as its publication rung) holds each final-state quantity those figures report to
@@ -364,16 +363,32 @@ def verdict_word(status: str) -> str:
     return re.split(r"[:( ]", status, maxsplit=1)[0]
 
 
+#: how a figure title names the quantities a verdict text names by their dataset keys
+DISPLAY = {"F_transmitted": "$|F_z(L)|$", "L_z": "$L_z$", "helix_balance": "helix balance",
+           "decay_ratio": "decay ratio", "wall_force_ratio": "wall-force ratio", "pitch_ratio": "pitch ratio",
+           "total_turns": "turns", "n_reversals": "reversals", "lower_length": "lower-region length",
+           "lower_friction_use": "lower-region friction use"}
+
+
+def _display(text: str) -> str:
+    """A verdict text for a figure title: quantities by name instead of dataset key, and the served
+    figures (named in full in results/checks) as 'the served figures'."""
+    text = re.sub(r"final states that .*? report within their tolerances",
+                  "final states within the served figures' tolerances", text)
+    return re.sub(r"\b(" + "|".join(map(re.escape, sorted(DISPLAY, key=len, reverse=True))) + r")\b",
+                  lambda m: DISPLAY[m[1]], text)
+
+
 def _title_lines(head: str, status: str) -> list[str]:
     """The verdict as a figure title of at most TITLE_LINES lines: whole if it fits; else its
     headlines (brief_status) with a pointer to the full text; only then cut at a word."""
     def wrap(text):
-        return textwrap.wrap(head + text.replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH)
+        return textwrap.wrap(head + _display(text).replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH)
     for text in (status, brief_status(status) + f" (full verdict: {layout.CHECKS})"):
         lines = wrap(text)
         if len(lines) <= TITLE_LINES:
             return lines
-    return textwrap.wrap(head + status.replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH, max_lines=TITLE_LINES,
+    return textwrap.wrap(head + _display(status).replace(" +- ", " $\\pm$ "), width=TITLE_WIDTH, max_lines=TITLE_LINES,
                          placeholder=f" ... (full verdict: {layout.CHECKS})")
 
 
@@ -467,7 +482,6 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     finer = list(range(ipub + 1, len(values)))
     table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp", "deciding")}
     notes, decisive = [], []
-    members = _tightly_wound(members)
     if "loosely_wound" in members:
         notes += [_loose_share(members["loosely_wound"], has, seeds, values, ipub, j) for j in finer]
     state_tol = state_tolerances(members, has, (ipub, len(values) - 1), dist_tol, served)
@@ -536,18 +550,6 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     return f"pass: local relation within {100 * tol:g} %, {states} (largest shifts: {summary}){told}", notes, table
 
 
-def _tightly_wound(members: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """``members`` with the ratios to the torque-free helix (local_relations.TORQUE_FREE) left out
-    (NaN) for the loosely wound members (local_relations.loosely_wound): their premise fails there,
-    so they are compared over the tightly wound seeds, and the loosely wound share is described
-    (:func:`_loose_share`) as windings and reversals are."""
-    loose = members.get("loosely_wound")
-    if loose is None:
-        return dict(members)
-    return {k: (np.where(loose == 1.0, math.nan, v) if k in local_relations.TORQUE_FREE else v)
-            for k, v in members.items()}
-
-
 def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, values: np.ndarray,
                  i: int, j: int) -> str:
     """One note: how many members of rungs i and j are loosely wound, and whether the shares
@@ -559,8 +561,7 @@ def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, v
     a, b = aligned(loose, has, seeds, i, j)
     na, nb = int(a.sum()), int(b.sum())
     head = (f"loosely wound at {values[i]:g} against {values[j]:g}: {na} of {a.size} and {nb} of {b.size} seeds "
-            f"(wall force below {local_relations.LOOSE_WALL_RATIO:g} of the torque-free helix's; their ratios to it "
-            "are left out of the comparisons)")
+            f"(wall force below {local_relations.LOOSE_WALL_RATIO:g} of the torque-free helix's)")
     if not na and not nb:
         return head + "; described, not deciding"
     if seeds is not None:
@@ -604,9 +605,7 @@ def _build_ensemble(fig_cfg, sims, groups, publication_value, context=None) -> x
     keys = (*RELATION_KEYS, *STATE_KEYS, *DESCRIPTOR_KEYS, "loosely_wound")
     members = {k: pad.values(lambda d, k=k: _or_nan(per_run[id(d)][k]), fill=math.nan) for k in keys}
     members = {k: v for k, v in members.items() if np.isfinite(v[has == 1]).any()}
-    # the stored means of the ratios to the torque-free helix are those compared: tightly wound seeds
     loose = members.get("loosely_wound")
-    members = _tightly_wound(members)
     seeds = pad.values(lambda d: float(d.attrs["seed"]))
     served = list((context or {}).get("served") or [])
     status, notes, table = ladder_verdict(values, members, has, ipub, tol, dist_tol, seeds=seeds.astype(np.int64),
@@ -910,7 +909,7 @@ def plot(ds: xr.Dataset):
                     word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %"
                 left = ""
                 if k in local_relations.TORQUE_FREE and int(ds.get("n_loosely_wound", xr.DataArray(0)).sum()):
-                    left = ("\nloosely wound, left out: "
+                    left = ("\nloosely wound: "
                             + ", ".join(f"{n} at {v:g}" for n, v in zip(ds["n_loosely_wound"].values,
                                                                          ds["value"].values) if n))
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "

@@ -266,8 +266,7 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     ds["loosely_wound_member"] = variable(PM, loose, "loosely_wound_member")
     ds["bulk_part_member"] = variable(PM, np.where(has == 1, bpart, 0.0), "bulk_part_member")
     sure_bulk = determined(cb, fall_b, has_cb)
-    # the decay law's mean over the tightly wound bulks (a loosely wound one breaks its premise)
-    for name, vals, ok in (("bulk_decay_rate", rate, (has_rate == 1) & (loose == 0)), ("fit_c_bulk", cb, sure_bulk)):
+    for name, vals, ok in (("bulk_decay_rate", rate, has_rate == 1), ("fit_c_bulk", cb, sure_bulk)):
         st_ = [ensembles.stats(vals[i, ok[i]]) if ok[i].any() else None for i in range(len(panels))]
         ds[f"{name}_mean"] = variable(P, [x.mean if x else 0.0 for x in st_], f"{name}_mean")
         ds[f"{name}_std"] = variable(P, [x.std if x else 0.0 for x in st_], f"{name}_std")
@@ -454,7 +453,6 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
                             if "bulk_part_member" in ds else None))
         nb = int(ds["has_bulk_member"].values[i].sum())
         n_loose = int(ds["loosely_wound_member"].values[i].sum()) if "loosely_wound_member" in ds else 0
-        nb -= n_loose
         model = float(ds["decay_rate_model"].values[i])
         if nb and k_fr > 0 and model > 0:
             out.append(Headline(f"{figure}.decay_ratio.{panel}", figure,
@@ -462,8 +460,8 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
                                 float(ds["bulk_decay_rate_mean"].values[i]) / model,
                                 float(ds["bulk_decay_rate_std"].values[i]) / model / np.sqrt(nb) if nb > 1 else None,
                                 nb, "decay_ratio", L, load, k_fr, protocol,
-                                note="mean over the seeds with a tightly wound bulk helix"
-                                     + (f" ({n_loose} loosely wound left out)" if n_loose else "")
+                                note="mean over the seeds with a bulk helix"
+                                     + (f" ({n_loose} of them loosely wound)" if n_loose else "")
                                      + "; statistical error sd/sqrt(n)",
                                 numerics=numerics))
     return out

@@ -151,9 +151,7 @@ def _build_ensemble(groups, sims) -> xr.Dataset:
     ds["lower_length_member"] = variable(("L", "member"), low, "lower_length_member")
     ds["loosely_wound_member"] = variable(("L", "member"), loose, "loosely_wound_member")
     ds["bulk_part_member"] = variable(("L", "member"), part, "bulk_part_member")
-    # the decay law's mean over the tightly wound bulks (a loosely wound one breaks its premise)
-    tight = (has_bulk == 1) & (loose == 0)
-    rst = [ensembles.stats(rate[i, tight[i]]) if tight[i].any() else None for i in range(len(groups))]
+    rst = [ensembles.stats(rate[i, has_bulk[i] == 1]) if has_bulk[i].any() else None for i in range(len(groups))]
     ds["bulk_decay_rate_mean"] = variable(("L",), [x.mean if x else 0.0 for x in rst], "bulk_decay_rate_mean")
     ds["bulk_decay_rate_std"] = variable(("L",), [x.std if x else 0.0 for x in rst], "bulk_decay_rate_std")
     ds["member_class"].attrs.update({"flag_values": np.arange(len(ensembles.CLASSES), dtype=np.int8),
