@@ -176,8 +176,8 @@ FIGURE_QUANTITIES = [
              "1"),
     Quantity("n_seeds", "n", "members of the seed ensemble", "1"),
     Quantity("loosely_wound_member", "", "1 where the member's bulk helix is loosely wound: a wall force per length "
-             "below half the torque-free helix's, an unwinding torque locked in (analysis.local_relations.loosely_wound)",
-             "1"),
+             "below half the torque-free helix's, an unwinding torque locked in "
+             "(analysis.local_relations.loosely_wound)", "1"),
     Quantity("n_loosely_wound", "", "members whose bulk helix is loosely wound "
              "(analysis.local_relations.loosely_wound)", "1"),
     Quantity("F_mean", r"\langle|F_z(L)|\rangle", "ensemble mean of the transmitted force", "EI R-2"),
