@@ -109,7 +109,7 @@ def test_shared_scenes_are_simulated_once():
     assert by_folder[folder(layout.SIMS, "conv_l0")] == 5 * 64 - 5
     assert by_folder[folder(layout.SIMS, "jamming_map")] == 72 - 15
     assert by_folder[folder(layout.PROBES, "stability_map")] == 57
-    assert sum(str(Path(p).parent) == folder(layout.PATHS, "fig3_bifurcation") for p in sims) == 12
+    assert sum(str(Path(p).parent) == folder(layout.PATHS, "fig3_bifurcation") for p in sims) == 11
 
 
 def test_snakemake_stops_on_a_bad_config_before_any_job(tmp_path):
