@@ -828,6 +828,19 @@ def _rung_ticks(ax, ds: xr.Dataset) -> None:
         ax.tick_params(axis="x", labelrotation=30)
 
 
+def _loose_text(ds: xr.Dataset) -> str:
+    """One short title line: how many seeds of each rung are loosely wound ('' if none)."""
+    if "n_loosely_wound" not in ds or not int(ds["n_loosely_wound"].values.sum()):
+        return ""
+    n, total, v = ds["n_loosely_wound"].values, ds["n_seeds"].values, ds["value"].values
+    if np.array_equal(n, total):
+        return "every seed loosely wound"
+    on = np.flatnonzero(n)
+    if on.size <= 2:
+        return "loosely wound: " + ", ".join(f"{n[i]} at {v[i]:g}" for i in on)
+    return f"loosely wound: {', '.join(str(n[i]) for i in on)} at {', '.join(f'{v[i]:g}' for i in on)}"
+
+
 def plot(ds: xr.Dataset):
     """One panel per quantity against the refinement variable h (log axis). Single runs: the
     rungs, the Richardson limit and the tolerance band about it. Ensembles: the single seeds,
@@ -907,11 +920,7 @@ def plot(ds: xr.Dataset):
                     word = f"{verdict} {100 * tol:.2g} % (described)"
                 else:
                     word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %"
-                left = ""
-                if k in local_relations.TORQUE_FREE and int(ds.get("n_loosely_wound", xr.DataArray(0)).sum()):
-                    left = ("\nloosely wound: "
-                            + ", ".join(f"{n} at {v:g}" for n, v in zip(ds["n_loosely_wound"].values,
-                                                                         ds["value"].values) if n))
+                left = "\n" + _loose_text(ds) if k in local_relations.TORQUE_FREE and _loose_text(ds) else ""
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
