@@ -11,7 +11,8 @@ small forces, would carry less of it. The test: per seed, the decay rate (slope 
 against s, least squares over the joints) in the upper half of the bulk (from the loaded end:
 the larger forces) and in the lower half, on every rung; per half, the paired relative shift of
 each coarser rung against the finest (analysis.distributions.compare) and the half's mean force;
-and per seed the difference of the two halves' relative changes, with its mean and standard error. The same eps in both halves within their errors supports the rescaling.
+and per seed the difference of the two halves' relative changes, with its mean and standard
+error. The same eps in both halves within their errors supports the rescaling.
 
 Usage: python benchmarks/study_decay_bias_by_force.py --build /tmp/pub [--ladder conv_l0]
 """
