@@ -275,10 +275,11 @@ def test_a_share_of_seeds_has_its_wilson_interval():
 def test_a_shift_of_the_bulk_decay_rate_is_carried_to_a_longer_rod_exactly():
     """A 2 % bias of the bulk decay rate (helices built with c_K 1.02 against 1.00, the same tip
     and lower region; link 0 at the loaded end) moves F(L) by a few per cent at L/R = 80 and by
-    more at L/R = 320, where the bulk adds more to 1/|F_z|: the L/R = 80 split by region, rescaled
-    to the longer rod's F(L) and bulk part, gives the longer rod's own shift to round-off, where
-    the shift taken as it is would miss it by a fifth. The same rod (weights 1) gets its own
-    shift back."""
+    more at L/R = 320, where the bulk adds more to 1/|F_z|: the L/R = 80 ladder's shift with its
+    decay-rate part carried to the longer rod's F(L) and bulk part gives the longer rod's own shift
+    to round-off, where the shift taken as it is would miss it by a fifth. A bias of the ends only
+    (a tip 2 R longer on one rung, no decay-rate bias) is taken as the same relative shift, and the
+    same rod gets its own shift back."""
     from confined_rod.analysis import error_budget as EB
     from confined_rod.analysis import regions
     from confined_rod.analysis.figures.convergence import _split_by_region
@@ -286,18 +287,23 @@ def test_a_shift_of_the_bulk_decay_rate_is_carried_to_a_longer_rod_exactly():
     from .shapes import prescribed_helix
 
     def split(L, pub, fine):
-        sims = {f"{r}-s{s}": prescribed_helix(L=L, seed=s, tip=6.0, bottom=10.0, **kw)
+        sims = {f"{r}-s{s}": prescribed_helix(L=L, seed=s, bottom=10.0, **{"tip": 6.0, **kw})
                 for r, kw in (("pub", pub), ("fine", fine)) for s in (0, 1)}
         groups = [[f"pub-s{s}" for s in (0, 1)], [f"fine-s{s}" for s in (0, 1)]]
         shift, _, n, cov, at = _split_by_region(sims, groups, 0, 1)
         F = {r: abs(float(sims[f"{r}-s0"]["F_z"].values[-1])) for r in ("pub", "fine")}
         return (shift[:3], cov, at[0], at[1], n), F["pub"] / F["fine"] - 1.0, at
 
+    rate = (0.02, 0.0, math.inf)         # the decay ratio's shift the ladder measures: c_K 1.02 / 1.00 - 1
     short, short_shift, _ = split(80.0, {"c_K": 1.02}, {"c_K": 1.0})
     _, long_shift, long_rod = split(320.0, {"c_K": 1.02}, {"c_K": 1.0})
     assert abs(long_shift) > 1.15 * abs(short_shift) > 0.01
-    got, se, dof = EB.rescaled(short, long_rod)
+    got, se, dof = EB.rescaled(short, long_rod, rate)
     assert got == pytest.approx(long_shift, rel=1e-9) and se == pytest.approx(0.0, abs=1e-12) and dof == 1
-    same, _, _ = EB.rescaled(short, (short[2], short[3]))
+    same, _, _ = EB.rescaled(short, (short[2], short[3]), rate)
     assert same == pytest.approx(short_shift, rel=1e-9)
+    ends, ends_shift, _ = split(80.0, {"tip": 8.0}, {})
+    _, _, long_rod = split(320.0, {"tip": 8.0}, {})
+    assert abs(ends_shift) > 1e-3
+    assert EB.rescaled(ends, long_rod, (0.0, 0.0, math.inf))[0] == pytest.approx(ends_shift, rel=1e-9)
     assert regions.REGIONS == ("tip", "bulk", "lower")

@@ -11,6 +11,8 @@ when that reaches Euler's load for free-free (= pinned-pinned) lateral condition
 pi^2 EI/L^2, i.e. at F_1 = (pi^2 EI/L^2) cos(theta), cos(theta) = sqrt(1 - 4R^2/L^2);
 for the discrete rod (C = EI/l0) pi^2/L^2 becomes (4/l0^2) sin^2(pi l0/(2L)).
 """
+import math
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -206,7 +208,10 @@ def test_a_stiff_twin_gives_each_threshold_its_bond_compliance_bias():
                      "threshold_hi_stiff": (("aspect", "threshold"), [sims["thr_stiff"].threshold_hi.values]),
                      "aspect_k_ph": (("aspect",), [100.0]), "stiff_k_ph": (("aspect",), [10000.0])})
     for j in (0, 1):
-        assert bifurcation._bond_term(ds, 0, j)[0] == pytest.approx(shift[j], rel=1e-12)
+        value, _, se, factor = bifurcation._bond_term(ds, 0, j)
+        assert value == pytest.approx(shift[j], rel=1e-12) and factor == pytest.approx(1 / 0.99, rel=1e-12)
+        # two brackets of relative half-width 1e-4 at most: 1e-4 sqrt(2/3) at most, times the factor
+        assert 0 < se <= 1e-4 * math.sqrt(2 / 3) / 0.99 * (1 + 1e-9)
 
 
 def test_a_transition_keeps_the_shapes_the_run_chooses_and_tests_the_defects():

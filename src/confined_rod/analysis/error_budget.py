@@ -45,10 +45,11 @@ finest rung is two halvings finer, 2 for one), and each term is that first-order
 shift and its standard error times the factor (an overestimate where the order is higher); and
 a shift measured at another rod than the
 number's (another L, friction or load) is *transferred*, flagged per term (``bias_transferred``).
-A transmitted force's shift measured at another length of the same friction and load is carried
-to the number's rod by region (:func:`rescaled`): the bulk's share, a bias of the local decay
-rate, grows with what the bulk adds to 1/|F_z|, the ends' shares stay the same changes of 1/|F_z|;
-at another friction or load there is no such model and the shift is taken as it is.
+A transmitted force's shift measured at another length of the same friction, load and protocol
+has its decay-rate part carried to the number's rod (:func:`rescaled`): the ladder's bias of the
+local decay rate changes what the bulk adds to 1/|F_z| in proportion to it, on any rod; the rest
+of the shift (the ends and the bulk's boundaries) is taken as the same relative shift. At another
+friction, load or protocol there is no such model and the whole shift is taken as it is.
 
 The headlines come from the figure kinds (an optional ``headlines(figure, ds)`` in a kind module,
 returning :class:`Headline` objects); the ladders are every dataset of kind ``convergence`` with
@@ -91,8 +92,9 @@ class Headline:
     load: float
     k_fr: float
     protocol: str = "straight"
-    #: relative bias terms known without a ladder (THRESHOLD_TERMS), as (value, why)
-    terms: Mapping[str, tuple[float, str]] = field(default_factory=dict)
+    #: relative bias terms known without a ladder (THRESHOLD_TERMS), as (value, why), or measured
+    #: beside the number (a bond check) as (value, why, standard error, first-order limit factor)
+    terms: Mapping[str, tuple] = field(default_factory=dict)
     note: str = ""
     #: the numerical parameters the number was computed at, where they may differ from a ladder's
     #: publication rung (tol: the effective tolerance, the round-off floor of a long rod or a small
@@ -212,19 +214,25 @@ def _shifts_to_finest(ds: xr.Dataset, i: int, quantities: list[str]) -> dict[str
     return out
 
 
-def rescaled(split: tuple, rod: tuple[float, float]) -> tuple[float, float, float]:
-    """A ladder's shift of F(L) carried to another rod of the same friction and load (module
-    docstring): (shift, its standard error, degrees of freedom). With X_r what region r adds to
-    1/|F_z| and dF/F = -F(L) sum_r dX_r, a bias of the bulk's decay rate (a local relation) changes
-    X_bulk in proportion to X_bulk, while the tip and the lower region, the same at both ends of
-    any long rod of one load and friction, change theirs by the same amount: the bulk's share
-    scales by F_h X_bulk,h / (F_l X_bulk,l), the ends' by F_h / F_l (h the number's rod, l the
-    ladder's). The error from the shares' covariance, the weights being taken as exact."""
+def rescaled(split: tuple, rod: tuple[float, float], rate: tuple[float, float, float]) -> tuple[float, float, float]:
+    """A ladder's shift of F(L) carried to another rod of the same friction, load and protocol
+    (module docstring): (shift, its standard error, degrees of freedom). With X_r what region r
+    adds to 1/|F_z|, a seed's F_i/F_j - 1 = -F_i sum_r dX_r exactly. A relative bias eps of the
+    bulk's decay rate (a local relation, the ladder's decay_ratio shift ``rate`` = (eps, se, dof))
+    changes X_bulk by X_bulk eps/(1 + eps) (X of the biased rung), so its share of the shift is
+    -F X_bulk eps/(1 + eps) on any rod, F X_bulk read at the number's rod. The rest of the ladder's
+    shift (the tip, the lower region, and the bulk's boundaries moving between them) has no model
+    that carries it to another length (the lower region of a long rod is several times longer than
+    the ladder's), so it is taken as the same relative shift. The error: the shift's and eps's in
+    quadrature, their correlation neglected."""
     shares, cov, F_l, X_l, n = split
     F_h, X_h = rod
-    ends = F_h / F_l
-    w = np.array([ends, F_h * X_h / (F_l * X_l) if X_l > 0 else ends, ends])
-    return float(w @ shares), float(math.sqrt(max(float(w @ cov @ w), 0.0))), float(n - 1)
+    eps, eps_se, eps_dof = rate
+    k = 1.0 / (1.0 + eps)
+    rest = float(np.sum(shares)) + F_l * X_l * eps * k
+    shift = -F_h * X_h * eps * k + rest
+    se = math.sqrt(max(float(np.sum(cov)), 0.0) + ((F_h * X_h - F_l * X_l) * k * k * eps_se) ** 2)
+    return float(shift), float(se), float(min(n - 1, eps_dof))
 
 
 def first_order_limit_factor(h_pub: float, h_fine: float) -> float:
@@ -306,7 +314,10 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
             stat[i], has_stat[i], stat_t[i] = abs(h.stat_error) / abs(h.value), 1, h.stat_factor
         for p, name in enumerate(PARAMETERS):
             if name in h.terms:
-                bias[i, p], source[i, p] = h.terms[name]
+                term = tuple(h.terms[name])
+                bias[i, p], source[i, p] = term[:2]
+                if len(term) == 4:      # a measured term: its standard error and limit factor
+                    bias_se[i, p], to_limit[i, p] = term[2], term[3]
                 has_bias[i, p] = 1
                 continue
             lad = match(h, name, ladders) if name in LADDER_PARAMETERS else None
@@ -318,9 +329,11 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
                 continue
             moved[i, p] = not (_same(lad.L, h.L) and _same(lad.k_fr, h.k_fr) and _same(lad.load, h.load))
             if moved[i, p] and h.quantity == "F_transmitted" and not how and _same(lad.k_fr, h.k_fr) \
-                    and _same(lad.load, h.load) and lad.split is not None and h.force_parts is not None:
-                term = rescaled(lad.split, h.force_parts)
-                how = f"; rescaled by region to this rod, {100 * lad.split[0].sum():+.2g} % at the ladder's"
+                    and _same(lad.load, h.load) and lad.protocol == h.protocol and lad.split is not None \
+                    and h.force_parts is not None and "decay_ratio" in lad.shifts:
+                term = rescaled(lad.split, h.force_parts, lad.shifts["decay_ratio"])
+                how = (f"; its decay-rate part carried to this rod's bulk, {100 * lad.split[0].sum():+.2g} % at "
+                       "the ladder's")
             # the term is the first-order distance to the limit: the shift from the finest rung
             # times 1/(1 - h_fine/h), with its error (module docstring)
             bias[i, p], bias_se[i, p], dof = factor * term[0], factor * term[1], term[2]

@@ -257,16 +257,21 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
     return out
 
 
-def _bond_term(ds: xr.Dataset, i: int, j: int) -> tuple[float, str]:
-    """The k_ph bias term of threshold j of row i: its shift from the same rod at the stiffer bond,
-    mid/mid_stiff - 1, times 1/(1 - k_ph/k_ph_stiff), the first-order distance to the rigid-bond
-    limit in h = 1/k_ph (error_budget.bias_limit_factor); the two brackets' halves are within it
-    to their own size (the bracket term)."""
-    mid = 0.5 * (float(ds["threshold_lo"].values[i, j]) + float(ds["threshold_hi"].values[i, j]))
-    stiff = 0.5 * (float(ds["threshold_lo_stiff"].values[i, j]) + float(ds["threshold_hi_stiff"].values[i, j]))
+def _bond_term(ds: xr.Dataset, i: int, j: int) -> tuple[float, str, float, float]:
+    """The k_ph bias term of threshold j of row i, (value, why, standard error, limit factor): its
+    shift from the same rod at the stiffer bond, mid/mid_stiff - 1, times f = 1/(1 - k_ph/k_ph_stiff),
+    the first-order distance to the rigid-bond limit in h = 1/k_ph (error_budget.bias_limit_factor).
+    Each bisection places its threshold anywhere in its bracket, so the shift comes in steps of a
+    bracket: its standard error is that of the difference of two uniform errors of the brackets'
+    half-widths b, f sqrt(b^2 + b_stiff^2)/sqrt(3) (relative)."""
+    lo, hi = float(ds["threshold_lo"].values[i, j]), float(ds["threshold_hi"].values[i, j])
+    lo_s, hi_s = float(ds["threshold_lo_stiff"].values[i, j]), float(ds["threshold_hi_stiff"].values[i, j])
     k, k_stiff = float(ds["aspect_k_ph"].values[i]), float(ds["stiff_k_ph"].values[i])
-    return ((mid / stiff - 1.0) / (1.0 - k / k_stiff),
-            f"the same rod at k_ph = {k_stiff:g} (bisection), to first order in 1/k_ph")
+    f = 1.0 / (1.0 - k / k_stiff)
+    b, b_s = (hi - lo) / (hi + lo), (hi_s - lo_s) / (hi_s + lo_s)
+    return (((lo + hi) / (lo_s + hi_s) - 1.0) * f,
+            f"the same rod at k_ph = {k_stiff:g} (bisection), to first order in 1/k_ph",
+            f * math.hypot(b, b_s) / math.sqrt(3.0), f)
 
 
 def plot(ds: xr.Dataset):

@@ -39,7 +39,8 @@ no per-seed question of the final state has an answer. Two questions do:
    by their p-values in the notes, and so is the share of loosely wound seeds
    (analysis.local_relations.loosely_wound: a bulk whose wall force is below half the torque-free
    helix's, an unwinding torque locked in; McNemar's exact test on paired seeds, Fisher's
-   unpaired): another equilibrium, as a winding is.
+   unpaired), not deciding: the wall-force ratio itself is compared, and the cut at one half
+   separates a distinct state at some rods and runs through a continuum at others.
 
 What a ladder vouches for (``serves``). A ladder that names the figure scenes it stands behind
 (the same rod as its publication rung) holds each final-state quantity those figures report to
@@ -571,7 +572,7 @@ def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, v
     else:
         p = fisher_exact([[na, a.size - na], [nb, b.size - nb]]).pvalue
         test = f"Fisher exact p = {p:.2g}"
-    return f"{head}; {test}; described, not deciding (another equilibrium, as a winding is)"
+    return f"{head}; {test}; described, not deciding (the wall-force ratio itself is compared)"
 
 
 def aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
@@ -828,6 +829,12 @@ def _rung_ticks(ax, ds: xr.Dataset) -> None:
         ax.tick_params(axis="x", labelrotation=30)
 
 
+def _y_label(k: str) -> str:
+    """The quantity's label with its fractions set in display style: a text-style fraction prints
+    its numerator and denominator at 70 % of the axis label's size, below 7 pt."""
+    return label(k).replace(r"\frac", r"\dfrac")
+
+
 def _loose_text(ds: xr.Dataset) -> str:
     """One short title line: how many seeds of each rung are loosely wound ('' if none)."""
     if "n_loosely_wound" not in ds or not int(ds["n_loosely_wound"].values.sum()):
@@ -837,8 +844,9 @@ def _loose_text(ds: xr.Dataset) -> str:
         return "every seed loosely wound"
     on = np.flatnonzero(n)
     if on.size <= 2:
-        return "loosely wound: " + ", ".join(f"{n[i]} at {v[i]:g}" for i in on)
-    return f"loosely wound: {', '.join(str(n[i]) for i in on)} at {', '.join(f'{v[i]:g}' for i in on)}"
+        return "loosely wound: " + ", ".join(f"{n[i]} of {total[i]} at {v[i]:g}" for i in on)
+    return (f"loosely wound: {', '.join(f'{n[i]}/{total[i]}' for i in on)} at "
+            f"{', '.join(f'{v[i]:g}' for i in on)}")
 
 
 def plot(ds: xr.Dataset):
@@ -869,7 +877,7 @@ def plot(ds: xr.Dataset):
             ax.set_xscale("log")
             _rung_ticks(ax, ds)
             ax.set_xlabel(_X_LABEL[param])
-            ax.set_ylabel(label(k))
+            ax.set_ylabel(_y_label(k))
             continue
         tol = float(ds.attrs["distribution_tolerance"] if ensemble and k in STATE_KEYS else ds.attrs["tolerance"])
         codes_k = ds["cmp_verdict_code"].sel(quantity=k).values if ensemble else np.zeros(0)
@@ -938,7 +946,7 @@ def plot(ds: xr.Dataset):
         ax.set_xscale("log")
         _rung_ticks(ax, ds)
         ax.set_xlabel(_X_LABEL[param])
-        ax.set_ylabel(label(k))
+        ax.set_ylabel(_y_label(k))
     for ax in list(axes.flat)[len(obs):]:
         ax.set_visible(False)
     head = f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
