@@ -836,7 +836,8 @@ def _y_label(k: str) -> str:
 
 
 def _loose_text(ds: xr.Dataset) -> str:
-    """One short title line: how many seeds of each rung are loosely wound ('' if none)."""
+    """One title line, over the decay ratio's panel: how many seeds of each rung are loosely wound
+    ('' if none)."""
     if "n_loosely_wound" not in ds or not int(ds["n_loosely_wound"].values.sum()):
         return ""
     n, total, v = ds["n_loosely_wound"].values, ds["n_seeds"].values, ds["value"].values
@@ -928,7 +929,9 @@ def plot(ds: xr.Dataset):
                     word = f"{verdict} {100 * tol:.2g} % (described)"
                 else:
                     word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %"
-                left = "\n" + _loose_text(ds) if k in local_relations.TORQUE_FREE and _loose_text(ds) else ""
+                # once, over the decay ratio's panel (the first of the ratios to the torque-free helix)
+                first = next((q for q in local_relations.TORQUE_FREE if q in obs), None)
+                left = "\n" + _loose_text(ds) if k == first and _loose_text(ds) else ""
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
