@@ -314,13 +314,13 @@ def test_a_local_relation_that_moves_fails_even_when_the_states_agree():
 def test_the_shift_of_the_transmitted_force_is_split_by_region_from_the_loaded_end():
     """Rungs whose helices differ in the bulk's wall force only (c_K 1.1 on the publication rung
     0.5, 1.2 on the finest): the whole shift sits in the bulk, none in the detached tip at the
-    loaded end; the parts sum to 1 - F_fine(L)/F_pub(L) exactly (the first-order split of the
-    relative shift r = F_pub/F_fine - 1, r/(1 + r)), and the coarse rung, with less friction, transmits more."""
+    loaded end; the parts sum to the shift of the mean, F_pub(L)/F_fine(L) - 1, exactly (each seed's
+    share -F_pub F_fine dX over the mean F_fine), and the coarse rung, with less friction, transmits more."""
     ds = _ladder((0.27, 0.27, 0.27), relations=(1.1, 1.1, 1.2), n_seeds=3)
     part = dict(zip(ds["region"].values, ds["F_shift_by_region"].values[1]))       # rung 0.5 against 0.25
     F_pub = abs(float(shapes.prescribed_helix(L=80.0, l0=0.5, c_K=1.1)["F_z"].values[-1]))
     F_fine = abs(float(shapes.prescribed_helix(L=80.0, l0=0.25, c_K=1.2)["F_z"].values[-1]))
-    assert sum(part.values()) == pytest.approx(1 - F_fine / F_pub, rel=1e-9)
+    assert sum(part.values()) == pytest.approx(F_pub / F_fine - 1, rel=1e-9)
     assert part["bulk"] > 0.05 and abs(part["tip"]) < 1e-3 * part["bulk"]
     assert "F_transmitted at 0.5 against 0.25 by region from the loaded end (3 paired seeds" in ds.attrs["notes"]
     assert ds["F_shift_by_region_has"].values.tolist() == [1, 1, 0]
