@@ -555,8 +555,8 @@ def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, v
                  i: int, j: int) -> str:
     """One note: how many members of rungs i and j are loosely wound, and whether the shares
     differ: paired seeds by McNemar's exact test (the seeds loosely wound on one rung only, split
-    half and half under equal shares), unpaired by Fisher's exact test; not deciding (another
-    equilibrium, as a winding is)."""
+    half and half under equal shares), unpaired by Fisher's exact test; not deciding (the
+    wall-force ratio itself is compared as a state quantity)."""
     from scipy.stats import binomtest, fisher_exact
 
     a, b = aligned(loose, has, seeds, i, j)
