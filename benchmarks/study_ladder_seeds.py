@@ -1,0 +1,181 @@
+"""A convergence ladder of the publication config extended by seeds beyond what the build
+affords, paired seed by seed against its finest rung: for a ladder the build leaves undecided
+only because its ensembles are too small (issue 43: the dx_max bias at 2 %, the ramp of
+Fig 4(b)). Writes benchmarks/results/study_seeds_<figure>.json.
+
+Every run is the ladder's own scene (pipeline.scene_params of the config, seed and name set per
+run), so a seed's run here is the build's run of that seed. Finished runs are kept in the JSON
+(per rung and seed: |F_z(L)| in EI/R^2, the local relations of analysis.local_relations, the
+loosely wound flag, the run time, converged), so a later call with more ``--seeds`` runs only the
+new ones, across sessions; ``--from-build DIR`` reads the seeds a publication build already ran
+(DIR/results/sims/<figure>/ and the figure scenes the ladder shares; any result file whose scene
+differs from the ladder's is refused: analysis.run_checks.problem).
+
+Reported per quantity and coarser rung against the finest (analysis.distributions.compare,
+paired): the shift of the ensemble mean with its standard error, the 95 % bound, the resolution
+at 95 % power, the AD p-value, the verdict against ``--tolerance`` (for ``--quantity``; the others
+against 1, as descriptions) and the seeds that would decide; and the loosely wound seeds per rung.
+A run that does not reach equilibrium (its time cap) is left out of both rungs and named.
+
+Usage: python benchmarks/study_ladder_seeds.py --figure conv_dx_max_L640 [--rungs dx002 dx0005]
+           [--quantity F_transmitted] [--tolerance 0.02] [--seeds 52] [--from-build /tmp/pub] [--jobs 2]
+       python benchmarks/study_ladder_seeds.py --figure conv_ramp_steps_b --rungs n256 n512
+           --quantity decay_ratio --tolerance 0.0534 --seeds 60
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = Path(__file__).resolve().parent / "results"
+QUANTITIES = ("F_transmitted", "decay_ratio", "wall_force_ratio", "pitch_ratio", "helix_balance")
+
+
+def _config():
+    from confined_rod import pipeline
+
+    return pipeline.read_config(ROOT / "config" / "config.yaml")
+
+
+def _scene(figure: str, rung: str, seed: int):
+    """The ladder's scene of rung ``rung`` for one seed."""
+    from confined_rod import pipeline
+
+    config = _config()
+    fig = config["figures"][figure]
+    fig["defaults"] = {**fig["defaults"], "seeds": 1, "seed": seed}
+    fig["scenes"] = {rung: {k: v for k, v in fig["scenes"][rung].items() if k not in ("seeds", "seed")}}
+    expanded = pipeline.expand(config)
+    (name,) = pipeline.scenes(expanded, figure)
+    return pipeline.build_scene(expanded, figure, name)
+
+
+def values(ds) -> dict:
+    """What the study keeps of one run's dataset."""
+    from confined_rod.analysis import local_relations
+
+    rel = local_relations.measure(ds)
+    loose = local_relations.loosely_wound(rel)
+    return {"F_transmitted": float(ds["F_transmitted"]), **rel, "loosely_wound": loose,
+            "wall_s": float(ds["wall_time"]), "converged": bool(int(ds["converged"]))}
+
+
+def one(args: tuple[str, str, int]) -> tuple[str, int, dict]:
+    from confined_rod.sim.simulation import simulate
+
+    figure, rung, seed = args
+    t0 = time.perf_counter()
+    ds = simulate(_scene(figure, rung, seed), progress=False)
+    out = values(ds)
+    out["wall_s"] = time.perf_counter() - t0
+    return rung, seed, out
+
+
+def from_build(figure: str, rungs: list[str], seeds: int, build: Path) -> dict:
+    """The runs a publication build made of this ladder: its own files and the figure scenes it
+    shares (pipeline.canonical_scene), each checked against the ladder's scene."""
+    import xarray as xr
+
+    from confined_rod import layout, pipeline
+    from confined_rod.analysis.run_checks import problem
+    from confined_rod.pipeline.targets import wanted_scene
+
+    config = pipeline.expand(_config())
+    out: dict = {}
+    for name in pipeline.scenes(config, figure):
+        rung, _, s = name.rpartition("-s")
+        if rung not in rungs or int(s) >= seeds:
+            continue
+        fig, scene = pipeline.canonical_scene(config, figure, name)
+        path = build / layout.sim_path(fig, scene)
+        if not path.exists():
+            continue
+        why = problem(path, wanted_scene(config, figure, name))
+        if why:
+            raise SystemExit(f"{path}: {why}")
+        with xr.open_dataset(path) as d:
+            out.setdefault(rung, {})[s] = values(d)
+    return out
+
+
+def compare(runs: dict, rungs: list[str], quantity: str, tolerance: float) -> dict:
+    from confined_rod.analysis import distributions
+
+    finest = rungs[-1]
+    out: dict = {}
+    for q in QUANTITIES:
+        for rung in rungs[:-1]:
+            both = set(runs.get(rung, {})) & set(runs.get(finest, {}))
+            ok = sorted(int(s) for s in both if runs[rung][s]["converged"] and runs[finest][s]["converged"]
+                        and runs[rung][s].get(q) is not None and runs[finest][s].get(q) is not None)
+            if len(ok) < 2:
+                continue
+            a = np.array([runs[rung][str(s)][q] for s in ok])
+            b = np.array([runs[finest][str(s)][q] for s in ok])
+            tol = tolerance if q == quantity else 1.0
+            c = distributions.compare(a, b, tol, paired=True)
+            out.setdefault(q, {})[rung] = {
+                "seeds": len(ok), "left_out": sorted(int(s) for s in both if int(s) not in ok),
+                "shift": c.shift, "se": c.se, "bound95": c.bound, "resolution": c.resolution, "p_ad": c.p_ad,
+                "verdict": c.verdict if q == quantity else "described", "tolerance": tol,
+                "seeds_needed": c.seeds_needed if q == quantity else None, "jumps": c.jumps,
+                "median_run_s": float(np.median([runs[rung][str(s)]["wall_s"] for s in ok])),
+                "median_run_s_finest": float(np.median([runs[finest][str(s)]["wall_s"] for s in ok]))}
+    out["loosely_wound"] = {r: {"seeds": len(runs.get(r, {})),
+                                "loosely_wound": sum(1 for v in runs.get(r, {}).values() if v.get("loosely_wound"))}
+                            for r in rungs}
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--figure", required=True, help="a convergence ladder of config/config.yaml")
+    ap.add_argument("--rungs", nargs="+", default=["dx002", "dx0005"], help="coarse to fine; the last is the reference")
+    ap.add_argument("--quantity", default="F_transmitted", choices=QUANTITIES, help="the quantity decided")
+    ap.add_argument("--tolerance", type=float, default=0.02, help="relative tolerance of --quantity")
+    ap.add_argument("--seeds", type=int, default=52)
+    ap.add_argument("--from-build", type=Path, default=None)
+    ap.add_argument("--jobs", type=int, default=2)
+    a = ap.parse_args()
+    path = RESULTS / f"study_seeds_{a.figure}.json"
+    old = json.loads(path.read_text()) if path.exists() else {}
+    runs: dict = old.get("runs", {})
+    if a.from_build:
+        for rung, by_seed in from_build(a.figure, a.rungs, a.seeds, a.from_build).items():
+            runs.setdefault(rung, {}).update(by_seed)
+    todo = [(a.figure, r, s) for r in a.rungs for s in range(a.seeds) if str(s) not in runs.get(r, {})]
+    print(f"{len(todo)} runs to make", flush=True)
+
+    def save() -> dict:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                                text=True).stdout.strip()
+        out = {"what": f"convergence ladder {a.figure} of config/config.yaml extended by seeds: each rung against "
+                       f"{a.rungs[-1]}, paired seed by seed (analysis.distributions.compare); {a.quantity} decided "
+                       f"against {a.tolerance:g}", "figure": a.figure, "commit": commit, "rungs": a.rungs,
+               "quantity": a.quantity, "tolerance": a.tolerance, "runs": runs,
+               "comparisons": compare(runs, a.rungs, a.quantity, a.tolerance)}
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(out, indent=1) + "\n")
+        tmp.replace(path)
+        return out
+
+    with ProcessPoolExecutor(a.jobs) as pool:
+        for k, (rung, seed, v) in enumerate(pool.map(one, todo)):
+            runs.setdefault(rung, {})[str(seed)] = v
+            print(f"{rung} s{seed}: F {v['F_transmitted']:.5g} in {v['wall_s']:.0f} s"
+                  f"{'' if v['converged'] else ' (not converged)'}", flush=True)
+            if k % 10 == 9:
+                save()              # an interrupted study keeps what it ran
+    print(json.dumps(save()["comparisons"], indent=1))
+
+
+if __name__ == "__main__":
+    main()
