@@ -28,8 +28,8 @@ rule postprocess:
 
 rule convergence_check:
     """Fail the build if the publication settings are further from the extrapolated
-    limit than the config's tolerance (or the check is inconclusive and the config
-    says that fails too); otherwise write the one-line verdict."""
+    limit than the config's tolerance (unless the config says a failure warns) or the
+    check is inconclusive and the config says that fails too; otherwise write the verdict."""
     input:
         layout.dataset_path("{figure}"),
     output:
@@ -38,6 +38,7 @@ rule convergence_check:
         on_inconclusive=lambda wildcards: config["figures"][wildcards.figure].get(
             "on_inconclusive", "fail"
         ),
+        on_fail=lambda wildcards: config["figures"][wildcards.figure].get("on_fail", "fail"),
     log:
         layout.log_path("convergence_check", "{figure}"),
     benchmark:

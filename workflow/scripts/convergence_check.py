@@ -10,7 +10,8 @@ from confined_rod.io import logged, write_text
 with logged(snakemake.log[0]):  # noqa: F821 (injected by Snakemake)
     ds = xr.load_dataset(snakemake.input[0])  # noqa: F821
     check = figures.get(ds.attrs["kind"]).check
-    line = check(ds, snakemake.wildcards.figure, snakemake.params.on_inconclusive)  # noqa: F821
+    line = check(ds, snakemake.wildcards.figure, snakemake.params.on_inconclusive,  # noqa: F821
+                 snakemake.params.on_fail)  # noqa: F821
     print(line)
     # the verdict, then every comparison it was decided from (shift +- its standard error, 95 % bound,
     # resolution, Anderson-Darling p-value, tolerance), one per line
