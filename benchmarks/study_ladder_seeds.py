@@ -19,7 +19,7 @@ A run that does not reach equilibrium (its time cap) is left out of both rungs a
 
 A rung the config does not have (``--extra-rung n1024 ramp_steps=1024``) is the ladder's finest
 rung with one parameter changed. Each coarser rung is compared with the finest and with the next
-finer one; the loosely wound share with McNemar's exact test, rung against the next finer one.
+finer one; the loosely wound share with McNemar's exact test, against the same two.
 
 Usage: python benchmarks/study_ladder_seeds.py --figure conv_dx_max_L640 [--rungs dx002 dx0005]
            [--quantity F_transmitted] [--tolerance 0.02] [--seeds 52] [--from-build /tmp/pub] [--jobs 2]
@@ -124,8 +124,8 @@ def from_build(figure: str, rungs: list[str], seeds: int, build: Path, config_pa
 def compare(runs: dict, rungs: list[str], quantity: str, tolerance: float) -> dict:
     """Per quantity, each coarser rung against the finest (keyed by the rung) and, where they
     differ, against the next finer one (keyed '<rung>_vs_<next>'); the loosely wound seeds per
-    rung, with McNemar's exact test of each rung against the next finer one (the seeds loosely
-    wound on one rung only)."""
+    rung, with McNemar's exact test of each rung against the next finer one and the finest (the
+    seeds loosely wound on one rung only)."""
     from scipy.stats import binomtest
 
     from confined_rod.analysis import distributions
@@ -155,7 +155,8 @@ def compare(runs: dict, rungs: list[str], quantity: str, tolerance: float) -> di
     out["loosely_wound"] = {r: {"seeds": len(runs.get(r, {})),
                                 "loosely_wound": sum(1 for v in runs.get(r, {}).values() if v.get("loosely_wound"))}
                             for r in rungs}
-    for rung, nxt in zip(rungs[:-1], rungs[1:]):
+    shares = list(zip(rungs[:-1], rungs[1:])) + [(r, finest) for r in rungs[:-2]]
+    for rung, nxt in shares:
         both = sorted(set(runs.get(rung, {})) & set(runs.get(nxt, {})), key=int)
         flags = [(runs[rung][s].get("loosely_wound"), runs[nxt][s].get("loosely_wound")) for s in both]
         flags = [(bool(x), bool(y)) for x, y in flags if x is not None and y is not None]

@@ -592,6 +592,7 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
             continue
         a = ds.attrs
         macros.add("val", f"{name}.status", str(a["status"]))
+        macros.add("val", f"{name}.publication_value", fmt(float(a["publication_value"])))
         macros.add_text("val", f"{name}.verdict", short_status(str(a["status"])))
         if "quantity" in ds.coords:
             ensemble_ladder_macros(name, ds, macros)
@@ -761,10 +762,17 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     decides on), and per compared quantity q (F_transmitted, L_z, decay_ratio, ...) the shift of the
     publication rung's mean from the finest rung, \\val{<ladder>.shift.<q>} ('+1.2 +- 0.8 %'), with
     the shift the ensembles resolve at 95 % power, \\val{<ladder>.resolution.<q>} ('2.1 %'); 'not
-    measured' where a quantity was not compared."""
+    measured' where a quantity was not compared; \\val{<ladder>.loosely_wound}, the loosely wound
+    seeds of every rung ('none' if no seed is)."""
     from ..analysis.figures.convergence import RELATION_KEYS, STATE_KEYS
 
     macros.add("val", f"{name}.seeds", str(int(ds["n_seeds"].values.min())))
+    # the loosely wound seeds per rung, '2 of 20 at 512, 9 of 32 at 1024' (analysis.local_relations)
+    loose = "none"
+    if "n_loosely_wound" in ds and int(ds["n_loosely_wound"].values.sum()):
+        loose = ", ".join(f"{int(n)} of {int(t)} at {float(v):g}" for n, t, v in
+                          zip(ds["n_loosely_wound"].values, ds["n_seeds"].values, ds["value"].values))
+    macros.add("val", f"{name}.loosely_wound", loose)
     finest = ds.sizes["rung"] - 1
     pub = int(np.flatnonzero(np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9))[0])
     for r, region in enumerate(REGIONS):
