@@ -1,7 +1,7 @@
-"""A convergence ladder of a config (the publication's by default) extended by seeds beyond what the build
-affords, and by rungs it does not have, paired seed by seed against its finest rung: for a ladder the build leaves undecided
-only because its ensembles are too small (issue 43: the dx_max bias at 2 %, the ramp of
-Fig 4(b)). Writes benchmarks/results/study_seeds_<figure>.json.
+"""A convergence ladder of a config (the publication's by default) extended by seeds beyond what
+the build affords, and by rungs it does not have, paired seed by seed against its finest rung: for
+a ladder the build leaves undecided only because its ensembles are too small (issue 43: the dx_max
+bias at 2 %, the ramp of Fig 4(b)). Writes benchmarks/results/study_seeds_<figure>.json.
 
 Every run is the ladder's own scene (pipeline.scene_params of the config, seed and name set per
 run), so a seed's run here is the build's run of that seed. Finished runs are kept in the JSON
@@ -197,15 +197,17 @@ def main() -> None:
     if a.from_build:
         for rung, by_seed in from_build(a.figure, a.rungs, a.seeds, a.from_build, a.config).items():
             runs.setdefault(rung, {}).update(by_seed)
-    todo = [(a.figure, r, s, extra, a.config.resolve()) for r in a.rungs for s in range(a.seeds) if str(s) not in runs.get(r, {})]
+    # seed by seed, every rung of a seed together: a study stopped part way leaves complete pairs
+    todo = [(a.figure, r, s, extra, a.config.resolve()) for s in range(a.seeds) for r in a.rungs
+            if str(s) not in runs.get(r, {})]
     print(f"{len(todo)} runs to make", flush=True)
 
     def save() -> dict:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                                 text=True).stdout.strip()
-        out = {"what": f"convergence ladder {a.figure} of {a.config.resolve().relative_to(ROOT)} extended by seeds: each rung against "
-                       f"{a.rungs[-1]}, paired seed by seed (analysis.distributions.compare); {a.quantity} decided "
-                       f"against {a.tolerance:g}", "figure": a.figure, "commit": commit, "rungs": a.rungs,
+        out = {"what": f"convergence ladder {a.figure} of {a.config.resolve().relative_to(ROOT)} extended by "
+                       f"seeds: each rung against {a.rungs[-1]}, paired seed by seed "
+                       f"(analysis.distributions.compare); {a.quantity} decided against {a.tolerance:g}", "figure": a.figure, "commit": commit, "rungs": a.rungs,
                "quantity": a.quantity, "tolerance": a.tolerance, "runs": runs,
                "comparisons": compare(runs, a.rungs, a.quantity, a.tolerance)}
         path.parent.mkdir(parents=True, exist_ok=True)

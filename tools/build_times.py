@@ -4,7 +4,8 @@ Reads results/benchmarks/<rule>/.../*.tsv (one per job: wall seconds first) and
 writes a JSON summary: the wall time of the whole build (if given), the number
 of jobs and the summed job seconds per rule, the longest jobs, and what running a
 scene costs beyond its solver (``run_overhead``: the job seconds of the rules that run
-scenes, batch, simulate and probe, less the solver times their datasets store, per scene), and
+scenes, batch, simulate and probe, less the solver times their datasets store, per scene), the
+job seconds per figure (``by_figure``: from the folder its benchmark files sit in), and
 the solver seconds of the simulations per rod length L (``solver_by_L``: runs, sum, median and
 longest solver time, and how many did not end at equilibrium).
 
@@ -38,6 +39,30 @@ def job_times(results: Path) -> list[dict]:
 
 
 SCENE_RULES = ("batch", "simulate", "probe")
+#: rules whose benchmark files sit under a folder named after a figure: <rule>/<figure>/... (the
+#: batches one level deeper, batch/<what>/<figure>/...)
+FIGURE_RULES = ("simulate", "probe", "load_path", "postprocess", "figure", "convergence_check")
+
+
+def figure_of(job: str) -> str | None:
+    """The figure a job's benchmark path belongs to, None for the build-wide rules (claims, paper)."""
+    parts = Path(job).parts
+    if parts[0] == "batch" and len(parts) >= 4:
+        return parts[2]
+    if parts[0] in FIGURE_RULES and len(parts) >= 2:
+        return parts[1].split(".")[0]
+    return None
+
+
+def by_figure(jobs: list[dict]) -> dict:
+    """Job seconds and jobs per figure, largest first: what each figure, ladder or study costs."""
+    out: dict = {}
+    for j in jobs:
+        f = figure_of(j["job"]) or j["rule"]
+        r = out.setdefault(f, {"jobs": 0, "job_s": 0.0})
+        r["jobs"] += 1
+        r["job_s"] += j["s"]
+    return dict(sorted(out.items(), key=lambda kv: -kv[1]["job_s"]))
 
 
 def run_overhead(results: Path, jobs: list[dict]) -> dict:
@@ -94,6 +119,7 @@ def main() -> None:
     out = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(), "note": args.note,
            "wall_s": args.wall, "jobs": len(jobs), "job_s_total": sum(j["s"] for j in jobs),
            "rules": dict(sorted(rules.items(), key=lambda kv: -kv[1]["job_s"])),
+           "by_figure": by_figure(jobs),
            "longest_jobs": sorted(jobs, key=lambda j: -j["s"])[:15],
            "run_overhead": run_overhead(Path(args.results), jobs),
            "solver_by_L": solver_by_length(Path(args.results))}
