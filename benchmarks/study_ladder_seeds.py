@@ -207,7 +207,8 @@ def main() -> None:
                                 text=True).stdout.strip()
         out = {"what": f"convergence ladder {a.figure} of {a.config.resolve().relative_to(ROOT)} extended by "
                        f"seeds: each rung against {a.rungs[-1]}, paired seed by seed "
-                       f"(analysis.distributions.compare); {a.quantity} decided against {a.tolerance:g}", "figure": a.figure, "commit": commit, "rungs": a.rungs,
+                       f"(analysis.distributions.compare); {a.quantity} decided against {a.tolerance:g}",
+               "figure": a.figure, "commit": commit, "rungs": a.rungs,
                "quantity": a.quantity, "tolerance": a.tolerance, "runs": runs,
                "comparisons": compare(runs, a.rungs, a.quantity, a.tolerance)}
         path.parent.mkdir(parents=True, exist_ok=True)
