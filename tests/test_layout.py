@@ -74,3 +74,27 @@ def test_the_layout_names_each_file_once_and_relative_to_the_checkout():
     assert layout.benchmark_path("figure", "fig4") == "results/benchmarks/figure/fig4.tsv"
     assert layout.paper_pdf("reproduction") == "results/paper/reproduction.pdf"
     assert all(not Path(p).is_absolute() for p in (layout.CLAIMS_CSV, layout.dataset_path("x")))
+
+
+def test_build_times_finds_the_figure_of_every_rule_that_writes_per_figure_benchmarks():
+    """tools/build_times.py attributes a job's seconds to the figure its benchmark file is filed
+    under (layout.benchmark_path, as the rules call it), and the build-wide rules to themselves."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("build_times", ROOT / "tools" / "build_times.py")
+    bt = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bt)
+
+    def job(*key):
+        return str(Path(layout.benchmark_path(*key)).relative_to(layout.BENCHMARKS).with_suffix(""))
+
+    assert bt.figure_of(job("batch", "simulate", "conv_l0", "n1-s0-to-n1-s9")) == "conv_l0"
+    for rule in ("simulate", "probe", "load_path"):
+        assert bt.figure_of(job(rule, "fig6_FonL", "L20-s1")) == "fig6_FonL"
+    for rule in ("postprocess", "figure", "convergence_check"):
+        assert bt.figure_of(job(rule, "conv_k_w")) == "conv_k_w"
+    assert bt.figure_of(job("claims", "claims")) is None and bt.figure_of(job("paper", "reproduction")) is None
+    jobs = [{"rule": "simulate", "job": job("simulate", "a", "s0"), "s": 2.0},
+            {"rule": "batch", "job": job("batch", "simulate", "a", "s1-to-s2"), "s": 3.0},
+            {"rule": "claims", "job": job("claims", "claims"), "s": 1.0}]
+    assert bt.by_figure(jobs) == {"a": {"jobs": 2, "job_s": 5.0}, "claims": {"jobs": 1, "job_s": 1.0}}
