@@ -134,24 +134,30 @@ def compare(runs: dict, rungs: list[str], quantity: str, tolerance: float) -> di
     pairs = [(r, finest, r) for r in rungs[:-1]]
     pairs += [(r, nxt, f"{r}_vs_{nxt}") for r, nxt in zip(rungs[:-2], rungs[1:-1])]
     out: dict = {}
-    for q in QUANTITIES:
-        for rung, ref, key in pairs:
-            both = set(runs.get(rung, {})) & set(runs.get(ref, {}))
-            ok = sorted(int(s) for s in both if runs[rung][s]["converged"] and runs[ref][s]["converged"]
-                        and runs[rung][s].get(q) is not None and runs[ref][s].get(q) is not None)
-            if len(ok) < 2:
-                continue
-            a = np.array([runs[rung][str(s)][q] for s in ok])
-            b = np.array([runs[ref][str(s)][q] for s in ok])
-            tol = tolerance if q == quantity else 1.0
-            c = distributions.compare(a, b, tol, paired=True)
-            out.setdefault(q, {})[key] = {
-                "seeds": len(ok), "left_out": sorted(int(s) for s in both if int(s) not in ok),
-                "shift": c.shift, "se": c.se, "bound95": c.bound, "resolution": c.resolution, "p_ad": c.p_ad,
-                "verdict": c.verdict if q == quantity else "described", "tolerance": tol,
-                "seeds_needed": c.seeds_needed if q == quantity else None, "jumps": c.jumps,
-                "median_run_s": float(np.median([runs[rung][str(s)]["wall_s"] for s in ok])),
-                "median_run_s_finest": float(np.median([runs[ref][str(s)]["wall_s"] for s in ok]))}
+    # every pair over all seeds, and the ratios to the torque-free helix also over the seeds tight on
+    # both rungs ('<key>_tight'): the relation within the state it presumes
+    tight_only = ("decay_ratio", "wall_force_ratio", "pitch_ratio")
+    for q, rung, ref, key in ([(q, *p) for q in QUANTITIES for p in pairs]
+                              + [(q, r, f, k + "_tight") for q in tight_only for r, f, k in pairs]):
+        both = set(runs.get(rung, {})) & set(runs.get(ref, {}))
+        if key.endswith("_tight"):
+            both = {s for s in both if runs[rung][s].get("loosely_wound") is False
+                    and runs[ref][s].get("loosely_wound") is False}
+        ok = sorted(int(s) for s in both if runs[rung][s]["converged"] and runs[ref][s]["converged"]
+                    and runs[rung][s].get(q) is not None and runs[ref][s].get(q) is not None)
+        if len(ok) < 2:
+            continue
+        a = np.array([runs[rung][str(s)][q] for s in ok])
+        b = np.array([runs[ref][str(s)][q] for s in ok])
+        tol = tolerance if q == quantity and not key.endswith("_tight") else 1.0
+        c = distributions.compare(a, b, tol, paired=True)
+        out.setdefault(q, {})[key] = {
+            "seeds": len(ok), "left_out": sorted(int(s) for s in both if int(s) not in ok),
+            "shift": c.shift, "se": c.se, "bound95": c.bound, "resolution": c.resolution, "p_ad": c.p_ad,
+            "verdict": c.verdict if tol != 1.0 else "described", "tolerance": tol,
+            "seeds_needed": c.seeds_needed if tol != 1.0 else None, "jumps": c.jumps,
+            "median_run_s": float(np.median([runs[rung][str(s)]["wall_s"] for s in ok])),
+            "median_run_s_finest": float(np.median([runs[ref][str(s)]["wall_s"] for s in ok]))}
     out["loosely_wound"] = {r: {"seeds": len(runs.get(r, {})),
                                 "loosely_wound": sum(1 for v in runs.get(r, {}).values() if v.get("loosely_wound"))}
                             for r in rungs}

@@ -763,15 +763,16 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     publication rung's mean from the finest rung, \\val{<ladder>.shift.<q>} ('+1.2 +- 0.8 %'), with
     the shift the ensembles resolve at 95 % power, \\val{<ladder>.resolution.<q>} ('2.1 %'); 'not
     measured' where a quantity was not compared; \\val{<ladder>.loosely_wound}, the loosely wound
-    seeds of every rung ('none' if no seed is)."""
+    seeds of every rung out of those with a regular helix ('none' if no seed is)."""
     from ..analysis.figures.convergence import RELATION_KEYS, STATE_KEYS
 
     macros.add("val", f"{name}.seeds", str(int(ds["n_seeds"].values.min())))
     # the loosely wound seeds per rung, '2 of 20 at 512, 9 of 32 at 1024' (analysis.local_relations)
-    loose = "none"
-    if "n_loosely_wound" in ds and int(ds["n_loosely_wound"].values.sum()):
-        loose = ", ".join(f"{int(n)} of {int(t)} at {float(v):g}" for n, t, v in
-                          zip(ds["n_loosely_wound"].values, ds["n_seeds"].values, ds["value"].values))
+    from ..analysis.figures.convergence import loose_counts
+
+    loose, counts = "none", loose_counts(ds)
+    if counts is not None and counts[0].sum():
+        loose = ", ".join(f"{int(n)} of {int(t)} at {float(v):g}" for n, t, v in zip(*counts, ds["value"].values))
     macros.add("val", f"{name}.loosely_wound", loose)
     finest = ds.sizes["rung"] - 1
     pub = int(np.flatnonzero(np.isclose(ds["value"].values, float(ds.attrs["publication_value"]), rtol=1e-9))[0])

@@ -154,8 +154,9 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
         dtol = 100 * float(fig_cfg.get("distribution_tolerance", fig_cfg["tolerance"]))
         states_tol = (f"{dtol:g} % for the final states" if not fig_cfg.get("serves") else
                       f"for the final states {dtol:g} % or, where that is larger, half the 95 % error of the mean "
-                      "that a figure the ladder serves reports (computed with the finest rung's spread; each panel's "
-                      "title gives the tolerance it was held to)")
+                      "that a figure the ladder serves reports (from the 95 % lower bound of the smaller spread of "
+                      "the publication and the finest rung, for the ratios to the torque-free helix of their seeds "
+                      "that are not loosely wound; each panel's title gives the tolerance it was held to)")
         same = (" Only the path differs between rungs; lines join a seed's values." if fig_cfg.get("paired") else "")
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, load = {sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each "
                 f"rung a seed ensemble of {runs} runs (a run not at a stable equilibrium is left out and named in the "
@@ -464,9 +465,11 @@ def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, rungs: 
                 budgets.append(distributions.budget_tolerance(x, int(figure["seeds"])))
         budget = min(budgets) if budgets else 0.0
         if budget > dist_tol:
+            whose = ("the seeds that are not loosely wound on " if k in local_relations.TORQUE_FREE
+                     and "loosely_wound" in members else "")
             out[k] = (budget, f" (half the 95 % error of a mean over the {figure['seeds']} seeds "
-                              f"{figure['name']} is configured for, with the smaller spread of the publication and "
-                              "the finest rung; seeds it leaves out widen its error)")
+                              f"{figure['name']} is configured for, from the 95 % lower bound of the smaller spread "
+                              f"of {whose}the publication and the finest rung)")
         else:
             out[k] = (dist_tol, "")
     return out
@@ -854,19 +857,29 @@ def _y_label(k: str) -> str:
     return label(k).replace(r"\frac", r"\dfrac")
 
 
+def loose_counts(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray] | None:
+    """Per rung, the loosely wound seeds and the seeds with a regular helix to tell (the flag is
+    read from the wall-force ratio, local_relations.loosely_wound); None if the ladder stores no flag."""
+    if "n_loosely_wound" not in ds:
+        return None
+    n = ds["n_loosely_wound"].values.astype(int)
+    told = (ds["wall_force_ratio_has"].values.sum(axis=1) if "wall_force_ratio_has" in ds
+            else ds["n_seeds"].values).astype(int)
+    return n, told
+
+
 def _loose_text(ds: xr.Dataset) -> str:
-    """One title line, over the decay ratio's panel: how many seeds of each rung are loosely wound
-    ('' if none)."""
-    if "n_loosely_wound" not in ds or not int(ds["n_loosely_wound"].values.sum()):
+    """One title line, over the decay ratio's panel: how many seeds of every rung are loosely
+    wound, out of those with a regular helix ('' if none)."""
+    counts = loose_counts(ds)
+    if counts is None or not counts[0].sum():
         return ""
-    n, total, v = ds["n_loosely_wound"].values, ds["n_seeds"].values, ds["value"].values
+    n, total = counts
+    v = ds["value"].values
     if np.array_equal(n, total):
         return "every seed loosely wound"
-    on = np.flatnonzero(n)
-    if on.size <= 2:
-        return "loosely wound: " + ", ".join(f"{n[i]} of {total[i]} at {v[i]:g}" for i in on)
-    return (f"loosely wound: {', '.join(f'{n[i]}/{total[i]}' for i in on)} at "
-            f"{', '.join(f'{v[i]:g}' for i in on)}")
+    return (f"loosely wound: {', '.join(f'{n[i]}/{total[i]}' for i in range(n.size))} at "
+            f"{', '.join(f'{x:g}' for x in v)}")
 
 
 def plot(ds: xr.Dataset):
@@ -913,6 +926,9 @@ def plot(ds: xr.Dataset):
             ax.plot(hm[has], ds[f"{k}_member"].values[has], ".", ms=3, **P.SEEDS, label="single seeds")
             if ds.attrs.get("paired"):
                 _seed_lines(ax, ds, k, h, has)
+            if "loosely_wound_member" in ds and (loose := has & (ds["loosely_wound_member"].values == 1)).any():
+                ax.plot(hm[loose], ds[f"{k}_member"].values[loose], "v", ms=3.5, mfc="none", mec="tab:orange",
+                        mew=0.8, zorder=3, label="loosely wound seeds")
             t95 = [distributions.t_quantiles(n - 1.0)[0] if n > 1 else 0.0 for n in has.sum(axis=1)]
             ax.errorbar(h, f, yerr=np.array(t95) * ds[f"{k}_sem"].values, fmt="none", ecolor="black",
                         elinewidth=0.9, capsize=2.5)
