@@ -878,8 +878,8 @@ def _loose_text(ds: xr.Dataset) -> str:
     v = ds["value"].values
     if np.array_equal(n, total):
         return "every seed loosely wound"
-    return (f"loosely wound: {', '.join(f'{n[i]}/{total[i]}' for i in range(n.size))} at "
-            f"{', '.join(f'{x:g}' for x in v)}")
+    return (f"loosely wound: {', '.join(f'{n[i]}/{total[i]}' for i in range(n.size))}\n"
+            f"at {', '.join(f'{x:g}' for x in v)}")
 
 
 def plot(ds: xr.Dataset):
