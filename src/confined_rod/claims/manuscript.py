@@ -764,12 +764,10 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     the shift the ensembles resolve at 95 % power, \\val{<ladder>.resolution.<q>} ('2.1 %'); 'not
     measured' where a quantity was not compared; \\val{<ladder>.loosely_wound}, the loosely wound
     seeds of every rung out of those with a regular helix ('none' if no seed is)."""
-    from ..analysis.figures.convergence import RELATION_KEYS, STATE_KEYS
+    from ..analysis.figures.convergence import RELATION_KEYS, STATE_KEYS, loose_counts
 
     macros.add("val", f"{name}.seeds", str(int(ds["n_seeds"].values.min())))
     # the loosely wound seeds per rung, '2 of 20 at 512, 9 of 32 at 1024' (analysis.local_relations)
-    from ..analysis.figures.convergence import loose_counts
-
     loose, counts = "none", loose_counts(ds)
     if counts is not None and counts[0].sum():
         loose = ", ".join(f"{int(n)} of {int(t)} at {float(v):g}" for n, t, v in zip(*counts, ds["value"].values))
