@@ -265,7 +265,8 @@ def test_numerical_study_figures_are_validated():
     assert pipeline.publication_value(config, "conv_ramp_steps") == 128.0 != Scene(L=10.0).ramp_steps
     outs = pipeline.expected_outputs(config)
     assert sorted(outs["checks"]) == sorted(layout.check_path(f) for f in
-                                            ("conv_l0", "conv_k_ph", "conv_l0_friction", "conv_ramp_steps"))
+                                            ("conv_l0", "conv_k_ph", "conv_l0_friction", "conv_ramp_steps",
+                                             "conv_ramp_steps_b"))
 
 
 def test_a_ladder_serves_only_the_rod_of_its_publication_rung():
