@@ -245,6 +245,49 @@ def test_figure_floats_use_the_converter_and_natural_size():
     assert r"\texttt{" + paper.tex_escape(layout.dataset_path("fig_x")) + "}" in tex and r"\texttt{0123456789ab}" in tex
 
 
+def test_a_figure_caption_names_the_ladders_that_check_it_with_their_verdicts():
+    """A ladder that serves a figure's scene (its ``serves`` attribute, as the convergence kind
+    writes it) puts its verdict in that figure's caption, a failing one included; a figure no
+    ladder serves gets no such sentence."""
+    import xarray as xr
+    plain = xr.Dataset(attrs={"git_commit": "0123456789abcdef"})
+    lad = xr.Dataset(attrs={"kind": "convergence", "parameter": "ramp_steps", "status": "fail: decay ratio",
+                            "serves": "fig4_Fonl_ramp.b (32 seeds configured: decay_ratio), fig6_FonL.L20 "
+                                      "(5 seeds configured: F_transmitted)"})
+    datasets = {"fig4_Fonl_ramp": plain, "fig6_FonL": plain, "fig7": plain, "conv_ramp_steps_b": lad}
+    assert paper.served_checks("fig4_Fonl_ramp", datasets) == [("conv_ramp_steps_b", "b", "ramp_steps", "fail")]
+    assert paper.served_checks("fig6_FonL", datasets) == [("conv_ramp_steps_b", "L20", "ramp_steps", "fail")]
+    assert paper.served_checks("fig7", datasets) == []
+    tex = paper.figures_tex([("fig4_Fonl_ramp", 4), ("fig7", 7)], {"fig4_Fonl_ramp": "A.", "fig7": "B."},
+                            datasets, "config/config.yaml")
+    fig4, fig7 = tex.split(r"\label{fig:fig4_Fonl_ramp}")
+    assert r"\texttt{conv\_ramp\_steps\_b} (scene b, ramp\_steps): \textbf{fail}" in fig4
+    assert "checked by" not in fig7
+
+
+def test_study_macros_count_the_seeds_that_reached_equilibrium_on_every_rung(tmp_path):
+    """A study of two rungs (benchmarks/study_ladder_seeds.py's layout): a seed missing on one
+    rung or unconverged on one is not paired; a study that states its seed count gives it; the
+    committed studies all give a count, so the manuscript's \\val{study.*} are defined."""
+    import glob
+    import json
+
+    from confined_rod import layout
+    runs = {"dx002": {"0": {"converged": True}, "1": {"converged": True}, "2": {"converged": False}},
+            "dx0005": {"0": {"converged": True}, "1": {"converged": True}, "2": {"converged": True},
+                       "3": {"converged": True}}}
+    (tmp_path / "study_seeds_x.json").write_text(json.dumps({"runs": runs}))
+    (tmp_path / "study_y.json").write_text(json.dumps({"seeds": 64}))
+    macros = paper.Macros()
+    paper.study_macros([str(p) for p in tmp_path.glob("*.json")], macros)
+    assert macros.expected() == {"val@study.seeds_x.seeds": "2", "val@study.y.seeds": "64"}
+    macros = paper.Macros()
+    paper.study_macros(glob.glob(str(Path(__file__).resolve().parents[1] / layout.STUDIES_GLOB)), macros)
+    cited = set(re.findall(r"\\val\{(study\.[^}]+)\}", (Path(__file__).resolve().parents[1]
+                                                         / "paper" / "reproduction.tex").read_text()))
+    assert cited and cited <= {k.split("@", 1)[1] for k in macros.expected()}
+
+
 def test_no_caption_carries_an_unformatted_placeholder():
     """A '{name}' left in a caption is an f-string prefix forgotten on one line of it (the
     convergence captions printed 'The publication value {p} =')."""

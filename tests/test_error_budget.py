@@ -181,6 +181,42 @@ def test_a_number_without_a_measured_bias_is_limited_by_the_unknown():
     assert row(ds, "fig.share")["limited_by"] == "unknown"
 
 
+def test_a_term_from_a_failing_ladder_is_a_lower_bound_and_limits_only_above_the_statistics():
+    """A ramp ladder that fails on the decay ratio (its publication rung beyond the tolerance from
+    the finest, code 2) and passes on F(L): the decay-rate headline's ramp term is flagged a lower
+    bound, the transmitted force's is not; a lower bound above the statistical error limits the
+    number (numerics), one below it leaves the limit unknown; the manuscript writes 'at least'."""
+    from confined_rod.claims import manuscript
+
+    lad = ladder("ramp_steps", 40, {"decay_ratio": (0.22, 0.064), "F_transmitted": (0.002, 0.02)},
+                 load=0.25, k_fr=0.3, protocol="ramp")
+    lad["cmp_verdict_code"].values[2, 0] = 2          # decay ratio beyond its tolerance
+    lad.attrs["status"] = "fail: decay_ratio beyond"
+    h_rate = headline("decay_ratio", L=40.0, value=0.9, se=0.01, protocol="ramp", k_fr=0.3)
+    h_noisy = eb.Headline("fig.noisy", "fig", "a noisy rate", 0.9, 0.5, 5, "decay_ratio", 40.0, 0.25, 0.3, "ramp")
+    h_force = headline("F_transmitted", L=40.0, value=0.2, se=0.01, protocol="ramp", k_fr=0.3)
+    ds = budget([h_rate, h_noisy, h_force], {"conv_ramp_steps_b": lad})
+    p = list(ds["budget_parameter"].values).index("ramp_steps")
+    heads = list(ds["headline"].values)
+    assert ds["bias_lower_bound"].values[heads.index(h_rate.key), p] == 1
+    assert ds["bias_lower_bound"].values[heads.index(h_force.key), p] == 0
+    assert row(ds, h_rate.key)["lower_bound"] == "ramp_steps"
+    assert row(ds, h_rate.key)["largest_lower_bound"] == "yes"
+    assert row(ds, h_rate.key)["limited_by"] == "numerics"     # bound >= 44 % against 2.8 %
+    assert row(ds, "fig.noisy")["limited_by"] == "unknown"     # 44 % or more against 154 %
+    assert row(ds, h_force.key)["lower_bound"] == ""
+    macros = manuscript.Macros()
+    manuscript.budget_macros(ds, macros)
+    plain = macros.expected()
+    assert plain["val@" + manuscript._key(f"budget.{h_rate.key}.bias")].startswith("at least ")
+    assert plain["val@" + manuscript._key("budget.unknown_lower")] == "1"
+    assert r"\ddag" in macros.raw[-1] and r"$\geq$" in macros.raw[-1]
+    # the same ladder passing: a first-order estimate, as before
+    lad.attrs["status"] = "pass"
+    ds = budget([h_rate], {"conv_ramp_steps_b": lad})
+    assert ds["bias_lower_bound"].values.sum() == 0
+
+
 def test_two_numbers_with_one_key_are_refused():
     h = headline()
     with pytest.raises(ValueError, match="fig.F_transmitted"):

@@ -45,6 +45,9 @@ VIEW_PAGE = "{figure}/{scene}.html"
 PAPER = RESULTS / "paper"
 LOGS = RESULTS / "logs"
 BENCHMARKS = RESULTS / "benchmarks"
+#: the committed studies outside the build that the manuscript cites (benchmarks/study_*.py write
+#: them; claims.manuscript.study_macros reads their seed counts)
+STUDIES_GLOB = "benchmarks/results/study_*.json"
 ERROR_BUDGET_NC = str(RESULTS / "error_budget.nc")
 ERROR_BUDGET_CSV = str(RESULTS / "error_budget.csv")
 CLAIMS_CSV = str(RESULTS / "claims.csv")

@@ -1,4 +1,5 @@
 # Shared set-up: config validation (before any job), file layout, code dependencies.
+import glob
 import json
 from pathlib import Path
 

@@ -40,6 +40,7 @@ rule paper_sources:
         claims=layout.CLAIMS_NC,
         datasets=ALL_TARGETS["datasets"],
         budget=ALL_TARGETS["budget"],
+        studies=sorted(glob.glob(layout.STUDIES_GLOB)),
         code=PAPER_CODE,
     output:
         numbers=layout.paper_source("numbers"),

@@ -14,6 +14,7 @@ with logged(sm.log[0]):
     for r in error_budget.rows(ds):
         stat, bias = (("not measured" if r[k] is None else f"{r[k]:.2g} %") for k in ("stat_95_percent",
                                                                                      "bias_95_percent"))
+        bias = (">= " if r["lower_bound"] and r["bias_95_percent"] is not None else "") + bias
         print(f"{r['headline']:45s} {r['value']:10.4g}  statistics {stat:>12s}  numerics {bias:>12s}  "
               f"({r['largest_bias']}; limited by {r['limited_by']})")
     write_dataset(ds, sm.output.nc)

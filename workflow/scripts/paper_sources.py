@@ -19,6 +19,7 @@ with logged(sm.log[0]):
     paper.finding_macros(verdicts, json.loads(claims_ds.attrs.get("finding_titles", "{}")), macros)
     paper.dataset_macros(datasets, macros)
     paper.budget_macros(xr.load_dataset(sm.input.budget[0]) if sm.input.budget else None, macros)
+    paper.study_macros(sm.input.studies, macros)
     macros.add("val", "config", sm.params.config_name)
     order = [tuple(x) for x in sm.params.order]
     paper.figure_macros(order, macros)

@@ -37,8 +37,12 @@ quadrature; t is the largest Student's quantile of the terms (paired seeds less 
 beside the statistical 95 %
 half-width t sd/sqrt(n) (n - 1 degrees of freedom; a share of seeds has its Wilson interval):
 the larger one limits the number, and a number none of whose bias terms was measured is limited
-by what is not known ("unknown"), however small its statistical error. Two caveats the table
-states: the shift is measured to the finest rung, not to the limit: for a term of order p,
+by what is not known ("unknown"), however small its statistical error. A term read from a ladder
+that *fails* on the headline's quantity (its publication rung beyond the tolerance from the finest
+rung, with no asymptotic range: analysis.figures.convergence) is only a lower bound of the bias,
+flagged per term (``bias_lower_bound``), and so is the number's bound: it limits the number where
+it already exceeds the statistical error, and otherwise what limits the number is unknown. Two
+caveats the table states: the shift is measured to the finest rung, not to the limit: for a term of order p,
 f(h) = f* + a h^p, the publication rung h_pub sits 1/(1 - (h_fine/h_pub)^p) times the shift from
 the limit, 1/(1 - h_fine/h_pub) at first order (``bias_limit_factor``: 4/3 for a ladder whose
 finest rung is two halvings finer, 2 for one), and each term is that first-order distance, the
@@ -64,7 +68,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import finalize
-from .distributions import t_quantiles
+from .distributions import BEYOND, t_quantiles
 from .figure_quantities import variable
 
 #: the large-sample factor of a 95 % interval (Student's t for few seeds: distributions.t_quantiles)
@@ -147,6 +151,9 @@ class Ladder:
     #: the three shares, the rung's mean F(L) and bulk part over the split's seeds, and their
     #: number; None where the ladder has no split (analysis.figures.convergence._split_by_region)
     split: tuple | None = None
+    #: the quantities whose publication rung lies beyond the ladder's tolerance from the finest
+    #: rung when the ladder fails: no asymptotic range, so their first-order term is a lower bound
+    beyond: frozenset = frozenset()
 
 
 def bias_bound(bias: np.ndarray, se: np.ndarray, t: np.ndarray, has: np.ndarray) -> float:
@@ -184,10 +191,15 @@ def ladders_of(datasets: Mapping[str, xr.Dataset]) -> list[Ladder]:
             split = (ds["F_shift_by_region"].values[ipub].copy(), ds["F_shift_by_region_cov"].values[ipub].copy(),
                      float(ds["F_split_mean"].values[ipub]), float(ds["bulk_part_split_mean"].values[ipub]),
                      int(ds["F_shift_split_seeds"].values[ipub]))
+        beyond = frozenset()
+        if str(a.get("status", "")).startswith("fail"):
+            from .figures.convergence import VERDICT_CODE
+            beyond = frozenset(str(k) for q, k in enumerate(ds["quantity"].values)
+                               if int(ds["cmp_verdict_code"].values[finest, q]) == VERDICT_CODE[BEYOND])
         out.append(Ladder(name, str(a["parameter"]), float(a["L"]), float(a["load"]), float(a["k_fr"]),
                           str(a.get("protocol", "straight")), shifts,
                           limit_factor=first_order_limit_factor(float(h[ipub]), float(h[finest])),
-                          h_pub=float(h[ipub]), coarser=coarser, split=split))
+                          h_pub=float(h[ipub]), coarser=coarser, split=split, beyond=beyond))
     return out
 
 
@@ -304,6 +316,7 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
     H, P = len(heads), len(PARAMETERS)
     bias, bias_se, has_bias = np.zeros((H, P)), np.zeros((H, P)), np.zeros((H, P), dtype=np.int8)
     bias_t, moved, to_limit = np.full((H, P), Z95), np.zeros((H, P), dtype=np.int8), np.ones((H, P))
+    lower = np.zeros((H, P), dtype=np.int8)
     source = np.full((H, P), "", dtype=object)
     value, stat, has_stat, stat_t = np.zeros(H), np.zeros(H), np.zeros(H, dtype=np.int8), np.full(H, Z95)
     bound, limited = np.zeros(H), np.zeros(H, dtype=np.int8)
@@ -339,11 +352,15 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
             bias[i, p], bias_se[i, p], dof = factor * term[0], factor * term[1], term[2]
             bias_t[i, p], to_limit[i, p] = t_quantiles(dof)[0], factor
             has_bias[i, p] = 1
+            lower[i, p] = h.quantity in lad.beyond
             source[i, p] = (f"{lad.name} (L/R = {lad.L:g}, k_fr = {lad.k_fr:g}, load = {lad.load:g}"
                             + ("; transferred" if moved[i, p] else "") + how + ")")
         bound[i] = bias_bound(bias[i], bias_se[i], bias_t[i], has_bias[i])
+        # a bias known only from below limits the number if it already exceeds the statistics;
+        # below them, what limits it is not known
         limited[i] = LIMITED_BY.index("unknown" if not has_stat[i] or not has_bias[i].any() else
-                                      "numerics" if bound[i] > stat_t[i] * stat[i] else "statistics")
+                                      "numerics" if bound[i] > stat_t[i] * stat[i] else
+                                      "unknown" if lower[i].any() else "statistics")
     coords = {"headline": variable(("headline",), np.array([h.key for h in heads], dtype=object), "headline"),
               "budget_parameter": variable(("budget_parameter",), np.array(PARAMETERS, dtype=object),
                                            "budget_parameter")}
@@ -368,6 +385,7 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
         "bias_factor": variable(("headline", "budget_parameter"), bias_t, "bias_factor"),
         "bias_transferred": variable(("headline", "budget_parameter"), moved, "bias_transferred"),
         "bias_limit_factor": variable(("headline", "budget_parameter"), to_limit, "bias_limit_factor"),
+        "bias_lower_bound": variable(("headline", "budget_parameter"), lower, "bias_lower_bound"),
         "bias_bound": variable(("headline",), bound, "bias_bound"),
         "limited_by": variable(("headline",), limited, "limited_by"),
     }
@@ -375,6 +393,8 @@ def build(datasets: Mapping[str, xr.Dataset], headlines_of: Callable[[str, xr.Da
         data[flag].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="not_measured measured")
     data["bias_transferred"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8),
                                           flag_meanings="measured_at_this_rod measured_at_another_rod")
+    data["bias_lower_bound"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8),
+                                          flag_meanings="first_order_estimate lower_bound")
     data["limited_by"].attrs.update(flag_values=np.arange(len(LIMITED_BY), dtype=np.int8),
                                     flag_meanings=" ".join(LIMITED_BY))
     return finalize(xr.Dataset(data, coords=coords),
@@ -402,6 +422,8 @@ def rows(ds: xr.Dataset) -> list[dict[str, str | float]]:
         j = int(np.argmax(per))
         measured = [p for p, m in zip(params, ds["has_bias"].values[i]) if m]
         moved = [p for p, m in zip(params, ds["bias_transferred"].values[i]) if m]
+        lower = [p for p, m in zip(params, ds["bias_lower_bound"].values[i]) if m] \
+            if "bias_lower_bound" in ds else []
         out.append({
             "headline": str(key), "figure": str(ds["headline_figure"].values[i]),
             "label": str(ds["headline_label"].values[i]), "value": float(ds["headline_value"].values[i]),
@@ -412,6 +434,8 @@ def rows(ds: xr.Dataset) -> list[dict[str, str | float]]:
             "largest_bias": _term(params[j], float(ds["bias"].values[i, j]), float(ds["bias_se"].values[i, j]))
             if per[j] > 0 else "none measured",
             "largest_transferred": "yes" if params[j] in moved and per[j] > 0 else "no",
+            "largest_lower_bound": "yes" if params[j] in lower and per[j] > 0 else "no",
+            "lower_bound": " ".join(lower),
             "measured": " ".join(measured),
             "transferred": " ".join(moved),
             "not_measured": " ".join(p for p in expected(str(ds["headline_quantity"].values[i]),

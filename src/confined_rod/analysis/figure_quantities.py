@@ -372,11 +372,14 @@ FIGURE_QUANTITIES = [
     Quantity("bias_limit_factor", "", "distance of the publication numerics from the limit over the bias term "
              "(their shift from the ladder's finest rung) for a first-order term, 1/(1 - h_fine/h_pub); 1 where no "
              "ladder measured the term", "1"),
+    Quantity("bias_lower_bound", "", "the bias term is a lower bound (1): read from a ladder that fails on the "
+             "headline's quantity, with no asymptotic range to extrapolate; 0 a first-order estimate", "1"),
     Quantity("bias_source", "", "where the bias was measured (ladder and its rod) or how it is known", "1"),
     Quantity("bias_bound", r"B_{95}", "95 % bound of the relative numerical bias: sum over the parameters of "
              "|delta_p|, plus t (the largest bias_factor) times the root sum of squares of sigma_p", "1"),
     Quantity("limited_by", "", "what limits the headline number: 0 its statistics (t sigma_stat >= B_95), "
-             "1 its numerics, 2 unknown (statistical error not measured)", "1"),
+             "1 its numerics, 2 unknown (statistical error or every bias term not measured, or a bias known "
+             "only from below that stays under the statistical error)", "1"),
 ]
 
 QUANTITIES = SCENE_FILE_QUANTITIES.extended(FIGURE_QUANTITIES)

@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 import numpy as np
@@ -650,6 +651,22 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
     macros.add("val", "git_commit", ", ".join(c[:12] for c in commits))
 
 
+def study_macros(paths: Iterable[str], macros: Macros) -> None:
+    """The studies outside the build whose files the manuscript cites (benchmarks/results/
+    study_<name>.json): \val{study.<name>.seeds}, the seeds that reached equilibrium on every
+    rung of the study (its paired ensemble), or the seed count it states."""
+    for path in sorted(paths):
+        name = Path(path).stem.removeprefix("study_")
+        data = json.loads(Path(path).read_text())
+        runs = data.get("runs")
+        if isinstance(runs, dict) and runs and all(isinstance(r, dict) for r in runs.values()):
+            done = [{seed for seed, run in rung.items() if isinstance(run, dict) and run.get("converged", True)}
+                    for rung in runs.values()]
+            macros.add("val", f"study.{name}.seeds", str(len(set.intersection(*done))))
+        elif isinstance(data.get("seeds"), int):
+            macros.add("val", f"study.{name}.seeds", str(data["seeds"]))
+
+
 def _percent(x: float) -> str:
     """'2.7 %', '30 %', '140 %': two significant digits, no exponent."""
     return (format(x, ".2g") if abs(x) < 100 else format(x, ".0f")) + " %"
@@ -670,11 +687,17 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
     # what is unknown: the statistical error (a single frictional run) or every bias term
     unknown = [r for r in rows if r["limited_by"] == "unknown"]
     macros.add("val", "budget.unknown_stat", str(sum(r["stat_95_percent"] is None for r in unknown)))
-    macros.add("val", "budget.unknown_bias", str(sum(r["stat_95_percent"] is not None for r in unknown)))
+    macros.add("val", "budget.unknown_bias", str(sum(r["stat_95_percent"] is not None and not r["measured"]
+                                                     for r in unknown)))
+    # a bias known only from below (a failing ladder) that stays under the statistical error
+    macros.add("val", "budget.unknown_lower", str(sum(r["stat_95_percent"] is not None and bool(r["measured"])
+                                                      for r in unknown)))
     lines = []
     for r in rows:
         stat = "not measured" if r["stat_95_percent"] is None else _percent(r["stat_95_percent"])
         bias = _percent(r["bias_95_percent"]) if r["measured"] else "not measured"
+        if r["measured"] and r["lower_bound"]:
+            bias = "at least " + bias       # a term from a failing ladder (error_budget: bias_lower_bound)
         macros.add("val", f"budget.{r['headline']}.stat", stat)
         macros.add("val", f"budget.{r['headline']}.bias", bias)
         if r["stat_95_percent"] == 0.0 and r["n_seeds"] == 1:
@@ -684,8 +707,12 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
         term = re.sub(r" -(?=\d)", r" \\ensuremath{-}", tex_escape(largest)).replace(" +- ", r" \ensuremath{\pm} ")
         if largest and r["largest_transferred"] == "yes":
             term += r"\textsuperscript{\dag}"
+        if largest and r["largest_lower_bound"] == "yes":
+            term += r"\textsuperscript{\ddag}"
+        cell_bias = tex_value(bias)[0] if not bias.startswith("at least ") else \
+            r"$\geq$\," + tex_value(bias.removeprefix("at least "))[0]
         cells = [tex_escape(r["figure"]), r"\raggedright " + budget_label_tex(r["label"]),
-                 tex_value(format(r["value"], ".3g"))[0], str(r["n_seeds"]), tex_value(stat)[0], tex_value(bias)[0],
+                 tex_value(format(r["value"], ".3g"))[0], str(r["n_seeds"]), tex_value(stat)[0], cell_bias,
                  r"\raggedright " + (term + tex_escape(missing)).strip("; "), tex_escape(r["limited_by"])]
         lines.append(" & ".join(cells) + r" \\")
     table = ""
@@ -705,7 +732,10 @@ def budget_macros(ds: xr.Dataset | None, macros: Macros) -> None:
                  r"term is given with its standard error; \dag: measured at another rod (length, friction or load; "
                  r"the ladder's rod is in the table's CSV) and transferred to the number's, the decay-rate part of a "
                  r"transmitted force's shift carried to its rod's bulk and the rest as a relative shift "
-                 r"(the CSV's source column says which). The larger of the two errors limits the number; a number "
+                 r"(the CSV's source column says which); \ddag\ and $\geq$: read from a ladder that fails on the "
+                 r"number's quantity (no asymptotic range), so the first-order term and the number's bound are lower "
+                 r"bounds, and a number whose lower bound stays under its statistical error is limited by what is "
+                 r"unknown. The larger of the two errors limits the number; a number "
                  r"with no bias term "
                  r"measured is limited by what is unknown."
                  + (r" none*: one frictionless run, whose equilibrium is unique, so no seed spread." if deterministic
@@ -922,6 +952,21 @@ FIGURE_MACRO = "%\n".join([
     r"\includegraphics[width=\crfigwidth,height=\crfigheight,keepaspectratio]{#1}\endgroup}"]) + "%"
 
 
+def served_checks(figure: str, datasets: Mapping[str, xr.Dataset]) -> list[tuple[str, str, str, str]]:
+    """The convergence ladders that vouch for a figure (their ``serves``): (ladder, the figure's
+    scene, parameter, verdict word) each, so a caption says when the check of its numerics fails."""
+    from ..analysis.figures.convergence import verdict_word
+
+    out = []
+    for ladder, ds in sorted(datasets.items()):
+        if ds.attrs.get("kind") != "convergence":
+            continue
+        for fig, scene in re.findall(r"([^\s,.()]+)\.([^\s,.()]+) \(", str(ds.attrs.get("serves", "none"))):
+            if fig == figure:
+                out.append((ladder, scene, str(ds.attrs["parameter"]), verdict_word(str(ds.attrs.get("status", "")))))
+    return out
+
+
 def figures_tex(order: list[tuple[str, int | None]], captions: Mapping[str, str],
                 datasets: Mapping[str, xr.Dataset], config_name: str) -> str:
     """One float per figure (paper figures first, in the paper's order), each with its caption
@@ -929,7 +974,12 @@ def figures_tex(order: list[tuple[str, int | None]], captions: Mapping[str, str]
     config or says that this config does not build it."""
     out = ["% GENERATED by confined_rod.claims.manuscript. Do not edit.", FIGURE_MACRO]
     for name, paper_figure in order:
-        cap = caption_tex(captions[name]) + " " + provenance(name, datasets[name], config_name)
+        checks = served_checks(name, datasets)
+        checked = ("" if not checks else " Its numerics are checked by " + ", ".join(
+            rf"\texttt{{{tex_escape(ladder)}}} (scene {tex_escape(scene)}, {tex_escape(param)}): "
+            rf"\textbf{{{tex_escape(word)}}}" for ladder, scene, param, word in checks)
+            + r" (Table~\ref{tab:convergence}).")
+        cap = caption_tex(captions[name]) + checked + " " + provenance(name, datasets[name], config_name)
         out += [r"\begin{figure*}[p]", r"\centering", rf"\crfigure{{{name}.pdf}}",
                 rf"\caption{{{cap}}}", rf"\label{{fig:{name}}}", r"\end{figure*}", ""]
     return "\n".join(out) + "\n"

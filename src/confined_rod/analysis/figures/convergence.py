@@ -499,10 +499,11 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     finer = list(range(ipub + 1, len(values)))
     table: dict[str, list] = {k: [] for k in ("rung", "quantity", "cmp", "deciding")}
     notes, decisive = [], []
-    loose_notes: dict[int, str] = {}
+    loose_notes: dict[int, str] = {}     # rung -> the note of a tested loosely wound share
     if "loosely_wound" in members:
-        loose_notes = {j: _loose_share(members["loosely_wound"], has, seeds, values, ipub, j) for j in finer}
-        notes += list(loose_notes.values())
+        shares = {j: _loose_share(members["loosely_wound"], has, seeds, values, ipub, j) for j in finer}
+        notes += [text for text, _ in shares.values()]
+        loose_notes = {j: text for j, (text, tested) in shares.items() if tested}
     state_tol = state_tolerances(members, has, (ipub, len(values) - 1), dist_tol, served)
     if not finer:
         return "inconclusive: no rung finer than the publication value", ["no finer rung"], table
@@ -545,8 +546,7 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     if beyond:
         # a ratio to the torque-free helix that moved with the loosely wound share: the share says why
         why = [loose_notes[j] for j in sorted({j for c, _, j, k in decisive if c.verdict == distributions.BEYOND
-                                               and k in local_relations.TORQUE_FREE}) if j in loose_notes
-               and "exact p" in loose_notes[j]]
+                                               and k in local_relations.TORQUE_FREE}) if j in loose_notes]
         return "fail: " + "; ".join(beyond + why), notes, table
     if undecided:
         need = max(c.seeds_needed for c, _ in undecided)
@@ -574,11 +574,12 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
 
 
 def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, values: np.ndarray,
-                 i: int, j: int) -> str:
+                 i: int, j: int) -> tuple[str, bool]:
     """One note: how many members of rungs i and j are loosely wound, and whether the shares
     differ: paired seeds by McNemar's exact test (the seeds loosely wound on one rung only, split
     half and half under equal shares), unpaired by Fisher's exact test; not deciding (the
-    wall-force ratio itself is compared as a state quantity)."""
+    wall-force ratio itself is compared as a state quantity). With it, whether a test was made
+    (no loosely wound seed on either rung: none)."""
     from scipy.stats import binomtest, fisher_exact
 
     a, b = aligned(loose, has, seeds, i, j)
@@ -586,7 +587,7 @@ def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, v
     head = (f"loosely wound at {values[i]:g} against {values[j]:g}: {na} of {a.size} and {nb} of {b.size} seeds "
             f"(wall force below {local_relations.LOOSE_WALL_RATIO:g} of the torque-free helix's)")
     if not na and not nb:
-        return head + "; described, not deciding"
+        return head + "; described, not deciding", False
     if seeds is not None:
         only_a, only_b = int(((a == 1) & (b == 0)).sum()), int(((a == 0) & (b == 1)).sum())
         p = binomtest(min(only_a, only_b), only_a + only_b, 0.5).pvalue if only_a + only_b else 1.0
@@ -594,7 +595,7 @@ def _loose_share(loose: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, v
     else:
         p = fisher_exact([[na, a.size - na], [nb, b.size - nb]]).pvalue
         test = f"Fisher exact p = {p:.2g}"
-    return f"{head}; {test}; described, not deciding (the means of the ratios it moves are compared)"
+    return f"{head}; {test}; described, not deciding (the means of the ratios it moves are compared)", True
 
 
 def aligned(v: np.ndarray, has: np.ndarray, seeds: np.ndarray | None, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
