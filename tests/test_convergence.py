@@ -142,7 +142,7 @@ def test_a_served_tolerance_is_not_widened_by_stuck_seeds_on_either_rung():
     for rungs in ((0, 1), (1, 0)):
         tol, origin = state_tolerances(members, has, rungs, 0.03, served)[k]
         assert tol == pytest.approx(distributions.budget_tolerance(fine, 3))
-        assert "smaller spread of the publication and the finest rung" in origin
+        assert "smaller relative spread of the publication and the finest rung" in origin
     assert tol < distributions.budget_tolerance(pub, 3) / 3    # the stuck rung's spread would pass it
     seeds = np.tile(np.arange(20), (2, 1))
     members["helix_balance"] = np.array([fine, fine])           # the local relation holds
@@ -275,3 +275,37 @@ def test_a_loosely_wound_state_on_both_rungs_does_not_widen_the_tolerance_its_sh
                                   served=served)
     assert status.startswith("fail: decay_ratio at 1024"), status
     assert "2 of 32 and 9 of 32 seeds" in status and "McNemar exact p = 0.016" in status, status
+
+
+def test_a_served_tolerance_names_whose_spread_it_took_when_every_seed_is_loosely_wound():
+    """Every seed loosely wound on both rungs (the Fig 4(c) ramp): the ratios' spread comes from
+    all seeds, and the tolerance's note says so instead of naming seeds that are not loosely wound."""
+    import numpy as np
+
+    from confined_rod.analysis.figures.convergence import state_tolerances
+
+    rng = np.random.default_rng(5)
+    n = 16
+    loose = 0.2 + 0.05 * rng.standard_normal((2, n))
+    members = {"decay_ratio": loose, "wall_force_ratio": loose, "loosely_wound": np.ones((2, n))}
+    has = np.ones((2, n), dtype=np.int8)
+    served = [{"name": "fig.c", "seeds": 3, "reports": ["decay_ratio"]}]
+    _, origin = state_tolerances(members, has, (0, 1), 0.03, served)["decay_ratio"]
+    assert "all seeds (fewer than two are not loosely wound)" in origin, origin
+    assert "the seeds that are not loosely wound on" not in origin
+    members["loosely_wound"] = np.zeros((2, n))
+    _, origin = state_tolerances(members, has, (0, 1), 0.03, served)["decay_ratio"]
+    assert "the seeds that are not loosely wound on the publication" in origin, origin
+
+
+def test_a_single_run_ladder_says_whether_its_limit_is_extrapolated_or_the_finest_rung():
+    """Richardson's limit where the differences shrink as a power (F 2 % off at h = 1); the finest
+    rung's value where they are already below a tenth of the tolerance, named as such."""
+    ds = ladder(lambda h: 0.1 * (1 + 0.02 * h))
+    line = studies.check(ds, "conv")
+    assert "Richardson's extrapolation for F_transmitted" in line, line
+    assert "L_z" in line.split("the finest rung for")[1], line  # constructed L_z does not vary with h
+    assert ds.F_transmitted_limit.attrs["comment"].startswith("Richardson")
+    flat = ladder(lambda h: 0.1 * (1 + 1e-6 * h))
+    assert "the finest rung for F_transmitted" in studies.check(flat, "conv")
+    assert flat.F_transmitted_limit.attrs["comment"].startswith("finest rung's value")

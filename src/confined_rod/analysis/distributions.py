@@ -144,8 +144,8 @@ class Comparison:
         if self.jumps:
             n += (f" ({self.jumps} of them {'jumps' if self.jumps == 1 else 'jump'} to another state, largest "
                   f"{scale * self.largest_jump:+.2g} {unit})")
-        return (f"shift {scale * self.shift:+.2g} +- {scale * self.se:.2g} {unit} (95 % bound {scale * self.bound:.2g} "
-                f"{unit}), resolution {scale * self.resolution:.2g} {unit}, {ad_text(self.p_ad)}, {n}: "
+        return (f"shift {scale * self.shift:+.2g} +- {scale * self.se:.2g} {unit} (95 % bound {scale * self.bound:.3g} "
+                f"{unit}), resolution {scale * self.resolution:.3g} {unit}, {ad_text(self.p_ad)}, {n}: "
                 f"{self.verdict} {scale * self.tolerance:.3g} {unit}{tolerance_note}{need}")
 
 

@@ -154,9 +154,11 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
         dtol = 100 * float(fig_cfg.get("distribution_tolerance", fig_cfg["tolerance"]))
         states_tol = (f"{dtol:g} % for the final states" if not fig_cfg.get("serves") else
                       f"for the final states {dtol:g} % or, where that is larger, half the 95 % error of the mean "
-                      "that a figure the ladder serves reports (from the 95 % lower bound of the smaller spread of "
+                      "that a figure the ladder serves reports (from the 95 % lower bound of the smaller relative "
+                      "spread of "
                       "the publication and the finest rung, for the ratios to the torque-free helix of their seeds "
-                      "that are not loosely wound; each panel's title gives the tolerance it was held to)")
+                      "that are not loosely wound where at least two are; each panel's title gives the tolerance it "
+                      "was held to)")
         same = (" Only the path differs between rungs; lines join a seed's values." if fig_cfg.get("paired") else "")
         return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, load = {sc.load:g} EI/R^2, k_fr = {sc.k_fr:g}), each "
                 f"rung a seed ensemble of {runs} runs (a run not at a stable equilibrium is left out and named in the "
@@ -178,8 +180,10 @@ def caption(figure, fig_cfg, built, publication_value=None) -> str:
                 "beyond its 95 % bound; otherwise the verdict is inconclusive and names the seeds per rung that would "
                 f"decide (every comparison with its 95 % bound and Anderson-Darling p-value: {layout.CHECKS}).{same}")
     return (f"Convergence in {p} = {vals} (L/R = {sc.L:g}, k_fr = {sc.k_fr:g}): transmitted force, L_z and "
-            f"bulk pitch against the refinement variable, with the Richardson limit from the three finest "
-            f"rungs and the band of +-{100 * float(fig_cfg['tolerance']):g} % about it that the publication "
+            f"bulk pitch against the refinement variable, with the limit (Richardson's extrapolation from the "
+            f"three finest rungs, or the finest rung where the finest differences are already below a tenth of "
+            f"the tolerance; the legend says which) and the band of +-{100 * float(fig_cfg['tolerance']):g} % "
+            "about it that the publication "
             f"value {p} = {publication_value:g} must lie in.")
 
 
@@ -298,9 +302,12 @@ def _ladder(fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset], context=
     data["wall_time"] = variable(("rung",), [float(d["wall_time"]) for _, d in items], "wall_time")
     data["observed_order"] = variable(("observable",), order, "observed_order")
     data["publication_distance"] = variable(("observable",), dist, "publication_distance")
-    for k, lim in zip(checked, limit):  # one variable per observable: they carry different units
-        data[f"{k}_limit"] = xr.Variable((), lim, attrs={**attrs(k), "long_name": "extrapolated limit h -> 0 of the "
-                                                          + attrs(k)["long_name"]})
+    for k, lim, note in zip(checked, limit, notes):  # one variable per observable: they carry different units
+        how = ("Richardson's extrapolation h -> 0" if note == "ok"
+               else "finest rung's value (differences below a tenth of the tolerance)" if note.startswith("finest")
+               else "finest rung's value")
+        data[f"{k}_limit"] = xr.Variable((), lim, attrs={**attrs(k), "long_name": "limit h -> 0 of the "
+                                                          + attrs(k)["long_name"], "comment": how})
     coords = {"rung": xr.Variable(("rung",), np.array([k for k, _ in items], dtype=object), attrs=attrs("scene")),
               "value": xr.Variable(("rung",), values, attrs={**attrs("value"), "long_name": f"value of {param}",
                                                               "parameter": param}),
@@ -451,7 +458,7 @@ def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, rungs: 
             out[k] = None
             continue
         figure = max(by, key=lambda s: s["seeds"])
-        budgets = []
+        budgets, tight_used = [], []
         for i in rungs:
             v = members[k][i] if k in members else np.array([])
             ok = (has[i] == 1) & np.isfinite(v) if v.size else np.array([], dtype=bool)
@@ -459,17 +466,20 @@ def state_tolerances(members: Mapping[str, np.ndarray], has: np.ndarray, rungs: 
                 # the loosely wound state sets the ratios' spread when it is there: its own share's
                 # shift is then what a widened tolerance would hide (module docstring, ``serves``)
                 tight = ok & (members["loosely_wound"][i] == 0)
-                ok = tight if tight.sum() >= 2 else ok
+                tight_used.append(bool(tight.sum() >= 2))
+                ok = tight if tight_used[-1] else ok
             x = v[ok] if v.size else v
             if x.size >= 2 and x.mean() != 0.0 and figure["seeds"] >= 2:
                 budgets.append(distributions.budget_tolerance(x, int(figure["seeds"])))
         budget = min(budgets) if budgets else 0.0
         if budget > dist_tol:
-            whose = ("the seeds that are not loosely wound on " if k in local_relations.TORQUE_FREE
-                     and "loosely_wound" in members else "")
+            whose = ("" if not tight_used else
+                     "the seeds that are not loosely wound on " if all(tight_used) else
+                     "all seeds (fewer than two are not loosely wound) on " if not any(tight_used) else
+                     "the seeds that are not loosely wound where at least two are, all seeds elsewhere, on ")
             out[k] = (budget, f" (half the 95 % error of a mean over the {figure['seeds']} seeds "
-                              f"{figure['name']} is configured for, from the 95 % lower bound of the smaller spread "
-                              f"of {whose}the publication and the finest rung)")
+                              f"{figure['name']} is configured for, from the 95 % lower bound of the smaller "
+                              f"relative spread of {whose}the publication and the finest rung)")
         else:
             out[k] = (dist_tol, "")
     return out
@@ -557,8 +567,8 @@ def ladder_verdict(values: np.ndarray, members: Mapping[str, np.ndarray], has: n
     for k, c, deciding in zip(table["quantity"], table["cmp"], table["deciding"]):
         if deciding and abs(c.shift) >= abs(largest.get(k, c).shift):
             largest[k] = c
-    summary = ", ".join(f"{k} {100 * c.shift:+.2g} % (resolution {100 * c.resolution:.2g} %"
-                        + (f", tolerance {100 * c.tolerance:.2g} %" if k in STATE_KEYS and c.tolerance != dist_tol
+    summary = ", ".join(f"{k} {100 * c.shift:+.2g} % (resolution {100 * c.resolution:.3g} %"
+                        + (f", tolerance {100 * c.tolerance:.3g} %" if k in STATE_KEYS and c.tolerance != dist_tol
                            else "") + ")" for k, c in largest.items())
     states = (f"final states within {100 * dist_tol:g} %" if not served else
               "final states that " + ", ".join(s["name"] for s in served) + " report within their tolerances")
@@ -813,7 +823,7 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail", on_fail: s
         line = (f"{figure}: {ds.attrs['parameter']} = {ds.attrs['publication_value']:g} is "
                 + ", ".join(f"{k} {100 * d:.3g} %" for k, d in zip(ds["observable"].values,
                                                                     ds["publication_distance"].values))
-                + f" from the extrapolated limit (tolerance {100 * ds.attrs['tolerance']:g} %): {status}")
+                + f" from the limit ({_limit_sources(ds)}; tolerance {100 * ds.attrs['tolerance']:g} %): {status}")
         if "pitch_theory_deviation" in ds.attrs:
             line += (f"; the pitch is that of the discrete chain's torque-free helix (theory.discrete_helix) "
                      f"within {100 * ds.attrs['pitch_theory_deviation']:.2g} % on every rung")
@@ -826,8 +836,26 @@ def check(ds: xr.Dataset, figure: str, on_inconclusive: str = "fail", on_fail: s
 #: the refinement axis: h on a log scale, ticked at the rungs by the parameter's value
 _X_LABEL = {"l0": r"$l_0$ [$R$] (axis: $h = l_0$)", "k_ph": r"$k_{ph}$ [$EI/R^2$] (axis: $h = 1/k_{ph}$)",
             "k_w": r"$k_w$ [$EI/R^3$] (axis: $h = 1/k_w$)", "k_t": r"$k_t$ [$EI/R^3$] (axis: $h = 1/k_t$)",
-            "tol": r"tol (normalised residual; axis: $h$ = tol)", "ramp_steps": r"$n_{ramp}$ (axis: $h = 1/n_{ramp}$)",
+            "tol": r"tol (axis: $h$ = tol)", "ramp_steps": r"$n_{ramp}$ (axis: $h = 1/n_{ramp}$)",
             "dx_max": r"$dx_{max}$ [$R$] (axis: $h = dx_{max}$)"}
+
+
+def _extrapolated(ds: xr.Dataset, k: str) -> bool:
+    """Whether a single-run ladder's limit of k is Richardson's extrapolation (else the finest rung's value)."""
+    return ds[f"{k}_limit"].attrs.get("comment", "").startswith("Richardson")
+
+
+def _limit_sources(ds: xr.Dataset) -> str:
+    """Where a single-run ladder's limits come from, for its check line: Richardson's extrapolation
+    from the three finest rungs, or the finest rung's value where its differences are already
+    below a tenth of the tolerance (richardson's ``resolved``)."""
+    obs = list(ds["observable"].values)
+    rich = [k for k in obs if _extrapolated(ds, k)]
+    fine = [k for k in obs if k not in rich]
+    parts = ([f"Richardson's extrapolation for {', '.join(rich)}"] if rich else []) + (
+        [f"the finest rung for {', '.join(fine)}, whose finest differences are below a tenth of the tolerance"]
+        if fine else [])
+    return "; ".join(parts)
 
 
 def _seed_lines(ax, ds: xr.Dataset, k: str, h: np.ndarray, has: np.ndarray) -> None:
@@ -920,7 +948,8 @@ def plot(ds: xr.Dataset):
             tol = float(ds["cmp_compared_tolerance"].sel(quantity=k).values.max())
         # a quantity no served figure reports is described, not decided: no tolerance band
         described = bool((codes_k > 0).any() and (codes_k[codes_k > 0] == NOT_DECIDING).all())
-        ax.plot(h, f, "-", color="0.6", lw=0.7)
+        if not ensemble:  # single runs: the rungs joined (an ensemble's means stand alone, beside its seeds' lines)
+            ax.plot(h, f, "-", color="0.6", lw=0.7)
         if ensemble:
             has = ds[f"{k}_has"].values == 1
             hm = np.broadcast_to(h[:, None], has.shape)
@@ -939,7 +968,8 @@ def plot(ds: xr.Dataset):
             ax.plot(h, ds["pitch_theory"].values, "x", ms=7, color="tab:red", label="discrete helix (theory)")
         lim = float(ds[f"{k}_limit"]) if f"{k}_limit" in ds else None
         if lim is not None:
-            ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else "Richardson limit")
+            ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else
+                       "Richardson limit" if _extrapolated(ds, k) else "finest rung")
             if not described:
                 # the band never sets the axes: a tolerance much wider than the rungs' spread would
                 # squash them onto one line (a band filling the panel: every rung is inside it);
@@ -962,16 +992,16 @@ def plot(ds: xr.Dataset):
                     verdict = distributions.decide(float(ds["cmp_shift"].values[j, q]),
                                                    float(ds["cmp_shift_se"].values[j, q]),
                                                    dof if dof > 0 else math.inf, tol)
-                    word = f"{verdict} {100 * tol:.2g} % (described)"
+                    word = f"{verdict} {100 * tol:.3g} % (described)"
                 else:
-                    word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.2g} %"
+                    word = {1: "within", 2: "beyond", 3: "undecided"}[int(codes[j])] + f" {100 * tol:.3g} %"
                 # once, over the decay ratio's panel (the first of the ratios to the torque-free helix)
                 first = next((q for q in local_relations.TORQUE_FREE if q in obs), None)
                 left = "\n" + _loose_text(ds) if k == first and _loose_text(ds) else ""
                 ax.set_title(f"against {ds['value'].values[j]:g}: shift "
                              f"{100 * ds['cmp_shift'].values[j, q]:+.2g} $\\pm$ "
                              f"{100 * ds['cmp_shift_se'].values[j, q]:.2g} %\nresolution "
-                             f"{100 * ds['cmp_resolution'].values[j, q]:.2g} %\n{word}{left}", fontsize=7.5)
+                             f"{100 * ds['cmp_resolution'].values[j, q]:.3g} %\n{word}{left}", fontsize=7.5)
             else:
                 ax.set_title("not compared (fewer than two values)", fontsize=7.5)
         elif k in checked:
