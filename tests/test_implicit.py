@@ -523,3 +523,81 @@ def test_friction_at_the_ends_is_the_gradient_and_hessian_of_its_envelope(rng):
         Hq[d:] += S.ab[d, :n - d] * p[:n - d]
         Hq[:n - d] += S.ab[d, :n - d] * p[d:]
     assert np.abs(Hq - fd).max() > 1e-2 * np.abs(fd).max()
+
+
+def test_the_slip_branch_model_has_the_envelopes_gradient_and_hessian_at_the_predicted_point():
+    """slip_branch_point_model (the numpy twin of end_slip_model's point terms): added to the
+    stick branch's model (k_t d, k_t 1), the quadratic's gradient at the predicted offset d' is
+    the envelope's there, f_max d'/|d'| (along the slip the force is f_max, not k_t |d'|), and its
+    Hessian is the slip branch's, (f_max/|d'|)(1 - u'u'^T). Values: k_t = 2e4 (k_ph/l0 at the
+    publication numerics), f_max = 0.02, d inside the stick zone (|d| = 0.3 f_max/k_t), a step
+    to 5 f_max/k_t."""
+    from confined_rod.sim.solvers import implicit_kernels as IK
+
+    kt, fmax = 2e4, 0.02
+    lim = fmax / kt
+    d, dp = np.array([0.3 * lim, 0.0]), np.array([2.0 * lim, 4.5 * lim])
+    dg, dh = IK.slip_branch_point_model(d, dp, fmax, kt)
+    grad0, hess = kt * d + dg, kt * np.eye(2) + dh
+    new = d + dp
+    u = new / np.linalg.norm(new)
+    assert grad0 + hess @ dp == pytest.approx(fmax * u, rel=1e-12, abs=1e-15)
+    assert hess == pytest.approx(fmax / np.linalg.norm(new) * (np.eye(2) - np.outer(u, u)), rel=1e-12)
+    # the stick branch alone would have taken k_t |d'| = 5 f_max
+    assert np.linalg.norm(kt * new) == pytest.approx(5 * fmax * np.hypot(2.3, 4.5) / 5, rel=1e-12)
+
+
+def test_end_slip_model_gives_the_step_the_envelopes_gradient_where_stuck_ends_start_to_slip(rng):
+    """Friction at the link ends, every end on the wall inside its stick zone (anchors within 0.3
+    f_max/k_t, f_max = 0.01), a step p that carries the ends 20 f_max/k_t on: the step's quadratic model with
+    the ends the step carries past their bound switched to the slip branch (end_slip_model)
+    predicts the gradient of Phi at the displaced state to the model's second-order error
+    (|p| ~ 1e-5 R: measured 1e-10 of f_max, held to 1e-4), while the stick-branch model misses
+    it by about k_t |d'| - f_max per end, tens of f_max (measured 39 f_max, held to above 5). The kernel's terms are its numpy
+    twin's (slip_branch_point_model) through the end Jacobians."""
+    from confined_rod.sim.solvers import implicit_kernels as IK
+    from confined_rod.sim.solvers.base import RunState
+    from confined_rod.sim.solvers.implicit import ImplicitStepper
+
+    from .conftest import random_state
+
+    scene = Scene(L=12.0, load=0.25, k_fr=0.8, friction_at="ends", friction_cap=0.0)
+    r, t = random_state(scene, rng, lateral=1.0)
+    S = ImplicitStepper(scene, dt=10.0)
+    st = RunState(r=r, t=t)
+    S._start_step(st, 10.0)
+    on = np.flatnonzero(S.fmax > 0.0)
+    assert on.size >= 6
+    S.fmax[on] = 0.01  # a bound of the publication rods' size (the random state presses far harder)
+    reach = S.fmax / S.kt
+    S.anchor += (S.pf[:, 1] * rng.normal(size=(S.fmax.size, 1)) + S.pf[:, 2] * rng.normal(size=(S.fmax.size, 1))) \
+        * 0.3 * reach[:, None] / np.sqrt(2.0)
+    IK.tangent_bases(t, S.e1, S.e2)
+    p = np.zeros((scene.N, IK.NDOF))
+    p[:, 2] = 20.0 * reach[on].max()  # every link moved along the axis (the frame's third vector), no turn
+    p = p.ravel()
+
+    def gradient(alpha):
+        g = np.zeros_like(S.g)
+        IK.displace(r, t, S.frame, S.e1, S.e2, p.reshape(scene.N, IK.NDOF), alpha, S.r2, S.t2, S.nu)
+        S._phi(S.r2.copy(), S.t2.copy(), S.nu.copy(), g)
+        return g.ravel().copy()
+
+    def banded_times(ab, v):
+        n = ab.shape[1]
+        out = ab[0] * v
+        for d in range(1, ab.shape[0]):
+            out[d:] += ab[d, :n - d] * v[:n - d]
+            out[:n - d] += ab[d, :n - d] * v[d:]
+        return out
+
+    g0, g1 = gradient(0.0), gradient(1.0)
+    S._hessian(r, t)
+    stick_only = g0 + banded_times(S.ab, p)
+    gm = g0.reshape(scene.N, IK.NDOF).copy()
+    switched = IK.end_slip_model(r, t, S.anchor, S.pf, S.frame, S.e1, S.e2, S.h, S.fmax, S.kt, p, gm, S.ab)
+    assert switched == on.size
+    model = gm.ravel() + banded_times(S.ab, p)
+    scale = S.fmax[on].max()
+    assert np.abs(model - g1).max() < 1e-4 * scale
+    assert np.abs(stick_only - g1).max() > 5 * scale

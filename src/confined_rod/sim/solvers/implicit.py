@@ -67,6 +67,8 @@ NEWTON_ETA = 1e-2  # ... or, during the approach, at NEWTON_ETA x the largest dr
 SHIFT_START = 1e-8  # indefinite Hessian: first diagonal shift, relative to each diagonal entry
 SHIFT_GROW = 100.0
 ACTIVE_SET_MODEL = True  # re-solve the Newton direction with the branches the step predicts (_active_set_model)
+SLIP_MODEL = True  # ... switching stuck ends the step carries past their bound to the slip branch too
+ACTIVE_SET_PASSES = 6  # ... predicting the branches again from each re-solved direction, at most this many solves
 NORMAL_PASSES = 8  # at most this many re-solves of a step with the friction bound from its end state
 ANDERSON_DEPTH = 5  # ... accelerated by Anderson mixing over this many previous passes
 PASSES_BELOW = 0.1  # ... and only in a step that moved no link end by more than this x dx_max
@@ -119,13 +121,18 @@ class StepFailed(Exception):
 
 class ImplicitStepper:
     def __init__(self, scene: Scene, dt: float | None = None, hessian: str = "analytic",
-                 newton_slow: int | None = None, active_set: bool | None = None):
+                 newton_slow: int | None = None, active_set: bool | None = None, slip_model: bool | None = None,
+                 active_set_passes: int | None = None):
         if hessian not in HESSIANS:
             raise ValueError(f"hessian must be one of {HESSIANS}, got {hessian!r}")
         self.scene = scene
         self.hessian = hessian
         self.newton_slow = newton_slow  # None: no cut of dt after slow Newton steps (the default)
         self.active_set = ACTIVE_SET_MODEL if active_set is None else active_set  # False: the plain Newton step
+        self.slip_model = SLIP_MODEL if slip_model is None else slip_model
+        self.passes = ACTIVE_SET_PASSES if active_set_passes is None else int(active_set_passes)
+        if self.passes < 1:
+            raise ValueError(f"active_set_passes must be >= 1, got {active_set_passes!r}")
         self.par = scene.params()
         # the finite-difference Hessian leaves out the one-sided contact penalties
         # (added exactly by contact_hessian)
@@ -280,25 +287,46 @@ class ImplicitStepper:
         spent 3-6 gradients per iteration finding the kink (L/R = 640, seed 0: 20 500
         gradients in 8 300 iterations; with the models 8 600 in 6 700. L/R = 1280: 87 000
         in 21 800; 37 000 in 17 400). The true gradient is kept for the line search, and the
-        new direction only if it descends."""
-        gm = self.gm
-        gm[:] = g
-        if not self.use_friction:
-            n = 0
-        elif self.ends:
-            n = IK.end_stick_model(r, t, self.anchor, self.pf, self.frame, self.e1, self.e2, self.h, self.fmax,
-                                   self.kt, self.p, gm, self.ab)
-        else:
-            n = IK.stick_model(r, self.anchor, self.frame, self.fmax, self.kt, self.p, gm, self.ab)
-        n += IK.contact_model(r, t, self.frame, self.e1, self.e2, self.par, self.p, gm, self.ab)
-        if n == 0:
-            return p
-        keep = self.p_keep
-        keep[:] = self.p  # the kernels read p and change only gm and ab
-        st.count("active_set_models")
-        p = self._solve(self.ab, gm, st)
-        if not IK.dot(g, p) < 0.0:
-            self.p[:] = keep
+        new direction only if it descends.
+
+        With friction at the ends, stuck ends that the step carries past their bound are switched
+        to the slip branch as well (implicit_kernels.end_slip_model, ``slip_model``), and the
+        branches are predicted again from each re-solved direction, until they repeat or after
+        ``active_set_passes`` solves (a primal-dual active-set iteration on the step's quadratic
+        model: each pass costs a factorisation, not a gradient and a line search). A stuck
+        stretch passes a change of axial force on over about sqrt(k_ph/(l0 k_t)) links per solve,
+        one at k_t = k_ph/l0, so a slip front moves about one link per pass instead of per Newton
+        iteration (L/R = 1280, seed 0: 191 900 Newton iterations with one pass and no slip
+        switch, 19 000 with six; benchmarks/results/profile_long_rods.json)."""
+        base = self.ab.copy() if self.passes > 1 else self.ab
+        last = None
+        for k in range(self.passes):
+            if k > 0:
+                self.ab[:] = base
+            gm = self.gm
+            gm[:] = g
+            n_stick = n_slip = 0
+            if self.use_friction and self.ends:
+                n_stick = IK.end_stick_model(r, t, self.anchor, self.pf, self.frame, self.e1, self.e2, self.h,
+                                             self.fmax, self.kt, self.p, gm, self.ab)
+                if self.slip_model:
+                    n_slip = IK.end_slip_model(r, t, self.anchor, self.pf, self.frame, self.e1, self.e2, self.h,
+                                               self.fmax, self.kt, self.p, gm, self.ab)
+            elif self.use_friction:
+                n_stick = IK.stick_model(r, self.anchor, self.frame, self.fmax, self.kt, self.p, gm, self.ab)
+            n_contact = IK.contact_model(r, t, self.frame, self.e1, self.e2, self.par, self.p, gm, self.ab)
+            switched = (n_stick, n_slip, n_contact)
+            if switched == (0, 0, 0) or switched == last:
+                break
+            last = switched
+            keep = self.p_keep
+            keep[:] = self.p  # the kernels read p and change only gm and ab
+            st.count("active_set_models")
+            q = self._solve(self.ab, gm, st)
+            if not IK.dot(g, q) < 0.0:
+                self.p[:] = keep
+                break
+            p = q
         return p
 
     def _hessian(self, r: np.ndarray, t: np.ndarray) -> None:

@@ -733,3 +733,78 @@ def end_stick_model(r, t, anchor, pf, frame, e1, e2, h, fmax, kt, p, g, ab):
             g[i, b] += J[0, b] * gp[0] + J[1, b] * gp[1] + J[2, b] * gp[2]
         count += 1
     return count
+
+
+def slip_branch_point_model(d, dp, fmax, kt):
+    """Plain-numpy twin of end_slip_model's point terms, in an end's tangent plane (2-vectors):
+    the slip branch of the friction envelope, f(d) = fmax |d| - fmax^2/(2 kt), modelled about the
+    point the step predicts, d' = d + dp, as a quadratic in the displacement from d: gradient at
+    d, fmax u' + c (d - u' (u'.d)), and Hessian c (1 - u' u'^T), with u' = d'/|d'| and
+    c = fmax/|d'|. At d' it has the envelope's exact gradient fmax u' and Hessian: along the
+    slip the force is fmax whatever the step, across it the direction turns with curvature c.
+    Returned minus the stick branch's (kt d, kt 1), as the kernel adds them."""
+    d, dp = np.asarray(d, dtype=float), np.asarray(dp, dtype=float)
+    new = d + dp
+    u = new / np.linalg.norm(new)
+    c = fmax / np.linalg.norm(new)
+    grad = fmax * u + c * (d - u * (u @ d))
+    hess = c * (np.eye(2) - np.outer(u, u))
+    return grad - kt * d, hess - kt * np.eye(2)
+
+
+@njit(cache=True)
+def end_slip_model(r, t, anchor, pf, frame, e1, e2, h, fmax, kt, p, g, ab):
+    """The reverse of end_stick_model: an end in its stick zone (|d| <= f_max/k_t) that the step p
+    carries beyond it (|d + J p| > f_max/k_t along the tangent plane) is modelled on the slip
+    branch about the point the step predicts (slip_branch_point_model: exact gradient f_max u'
+    and Hessian there) instead of the stick spring k_t, whose force the step would otherwise
+    take as k_t |d'|, far above f_max. With k_t = k_ph/l0 a stuck stretch passes a change of
+    axial force on over about one link per Newton iteration (implicit.py, stick stiffness), so
+    a slip front crossing m links took about m iterations; modelled on its slip branch, an end
+    the step carries past its bound passes the force on within the same linear solve. The
+    difference of the branches' point gradients and Hessians goes through the end's Jacobian
+    into g (a copy of the gradient) and ab. Returns how many ends."""
+    J = np.empty((3, NDOF))
+    hp = np.zeros((3, 3))
+    gp = np.zeros(3)
+    count = 0
+    for m in range(2 * r.shape[0]):
+        if fmax[m] <= 0.0:
+            continue
+        d1, d2 = K.end_offset(r, t, anchor, pf, h, m)
+        lim = fmax[m] / kt
+        if d1 * d1 + d2 * d2 > lim * lim:
+            continue  # in slip already: end_friction_hessian models it so
+        i = m // 2
+        s = 2.0 * (m % 2) - 1.0
+        q = NDOF * i
+        _end_jacobian(i, s, h, frame, e1, e2, J)
+        s1 = 0.0
+        s2 = 0.0
+        for a in range(3):
+            jp = 0.0
+            for b in range(NDOF):
+                jp += J[a, b] * p[q + b]
+            s1 += pf[m, 1, a] * jp
+            s2 += pf[m, 2, a] * jp
+        n1 = d1 + s1
+        n2 = d2 + s2
+        nn = np.sqrt(n1 * n1 + n2 * n2)
+        if nn <= lim:
+            continue
+        u1 = n1 / nn
+        u2 = n2 / nn
+        c = fmax[m] / nn
+        ud = u1 * d1 + u2 * d2
+        for a in range(3):
+            wa = u1 * pf[m, 1, a] + u2 * pf[m, 2, a]
+            da = d1 * pf[m, 1, a] + d2 * pf[m, 2, a]
+            gp[a] = fmax[m] * wa + c * (da - wa * ud) - kt * da
+            for b in range(3):
+                wb = u1 * pf[m, 1, b] + u2 * pf[m, 2, b]
+                hp[a, b] = (c - kt) * (pf[m, 1, a] * pf[m, 1, b] + pf[m, 2, a] * pf[m, 2, b]) - c * wa * wb
+        _add_end_hessian(i, s, h, q, frame, e1, e2, hp, gp, t, ab, J)
+        for b in range(NDOF):
+            g[i, b] += J[0, b] * gp[0] + J[1, b] * gp[1] + J[2, b] * gp[2]
+        count += 1
+    return count
