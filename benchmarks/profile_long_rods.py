@@ -7,6 +7,8 @@ k_ph = 1e4, k_w = 1e3, tol 1e-5, dx_max 0.02 R), the straight start, one core. S
 interleaved per seed (the machine is shared: compare within a run):
 
 * ``ends``: the default, friction at the link ends with the stick spring k_t = k_ph/l0;
+* ``ends_one_pass``: the same with the active-set model of one pass that switches ends from slip
+  to stick only (no end_slip_model): the solver before the slip switch;
 * ``ends_soft_kt``: friction at the ends with k_t = k_w (= k_ph/(10 l0) here), off the rigid-stick
   limit the ends law needs (its F(L) depends on k_t l0/k_ph below about 0.5), kept to show what the
   stiffness costs;
@@ -44,7 +46,12 @@ from confined_rod.sim.solvers import implicit  # noqa: E402
 from confined_rod.sim.solvers.base import run_protocol  # noqa: E402
 
 PUBLICATION = dict(load=0.25, k_fr=0.8, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5)
-SETTINGS = {"ends": {}, "ends_soft_kt": {"k_t": 1e3}, "centre": {"friction_at": "centre"}}
+SETTINGS = {  # scene parameters, stepper options
+    "ends": ({}, {}),
+    "ends_one_pass": ({}, {"slip_model": False, "active_set_passes": 1}),
+    "ends_soft_kt": ({"k_t": 1e3}, {}),
+    "centre": ({"friction_at": "centre"}, {}),
+}
 TENTHS = 10
 
 
@@ -60,8 +67,8 @@ class RecordingStepper(implicit.ImplicitStepper):
     """The implicit stepper, recording every Newton solve: its iterations, whether it converged
     and the step's dt (beta/cr)."""
 
-    def __init__(self, scene: Scene):
-        super().__init__(scene)
+    def __init__(self, scene: Scene, **options):
+        super().__init__(scene, **options)
         self.record: list[tuple[int, bool, float]] = []
 
     def _newton(self, r, t, st):
@@ -87,11 +94,12 @@ def by_tenth(record: list[tuple[int, bool, float]]) -> dict:
 
 
 def run(L: float, seed: int, setting: str, wall_cap: float) -> dict:
-    sc = Scene(L=L, seed=seed, name=f"profile/L{L:g}-s{seed}-{setting}", **PUBLICATION, **SETTINGS[setting])
+    extra, options = SETTINGS[setting]
+    sc = Scene(L=L, seed=seed, name=f"profile/L{L:g}-s{seed}-{setting}", **PUBLICATION, **extra)
     steppers: list[RecordingStepper] = []
 
     def make(s):
-        steppers.append(RecordingStepper(s))
+        steppers.append(RecordingStepper(s, **options))
         return steppers[-1]
 
     signal.signal(signal.SIGALRM, _alarm)
@@ -144,7 +152,8 @@ def main() -> None:
               "setup": "Fig 6's rods at the publication numerics: " + ", ".join(f"{k} {v:g}" for k, v in
                                                                                PUBLICATION.items())
                        + "; dx_max 0.02; straight start; one core; solver time only",
-              "settings": SETTINGS, "summary": summary, "runs": rows}
+              "settings": {k: {"scene": v[0], "stepper": v[1]} for k, v in SETTINGS.items()},
+              "summary": summary, "runs": rows}
     out = Path(a.output)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_suffix(".tmp")
