@@ -22,7 +22,7 @@ stick spring sets how far one Newton iteration carries a change of axial force i
 stretch, sqrt(k_ph/(l0 k_t)) links (solvers/implicit.py): 1 link at the default.
 
 Usage: python benchmarks/profile_long_rods.py [--lengths 320 640] [--seeds 3]
-       [--long 1280] [--wall-cap 400]
+       [--long 1280] [--wall-cap 400] [--note TEXT]
 """
 from __future__ import annotations
 
@@ -126,6 +126,7 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--long", type=float, nargs="*", default=[1280], help="lengths run for seed 0 only")
     ap.add_argument("--wall-cap", type=float, default=400.0, help="seconds; a run beyond is stopped and reported")
+    ap.add_argument("--note", default="", help="how the machine was used meanwhile (stored with the numbers)")
     ap.add_argument("-o", "--output", default=str(Path(__file__).parent / "results" / "profile_long_rods.json"))
     a = ap.parse_args()
     run(20.0, 0, "ends", a.wall_cap)  # numba's cache loaded before anything is timed
@@ -148,7 +149,7 @@ def main() -> None:
                                      "work" in r for r in rows if r["L"] == L and r["setting"] == s) else None,
                                  "runs": sum(1 for r in rows if r["L"] == L and r["setting"] == s)}
                              for s in SETTINGS}
-    result = {"machine": platform.machine(), "provenance": provenance(),
+    result = {"machine": platform.machine(), "provenance": provenance(), "note": a.note,
               "setup": "Fig 6's rods at the publication numerics: " + ", ".join(f"{k} {v:g}" for k, v in
                                                                                PUBLICATION.items())
                        + "; dx_max 0.02; straight start; one core; solver time only",
