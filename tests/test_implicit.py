@@ -466,16 +466,9 @@ def test_the_bound_passes_wait_until_the_step_has_nearly_stopped_moving():
     assert counts[0] == 0 and counts[1] > 0
 
 
-def test_friction_at_the_ends_is_the_gradient_and_hessian_of_its_envelope(rng):
-    """Friction at the link ends (friction_at 'ends') enters each Newton step as the stick
-    envelope of every end on the wall, its force and torque added to the loads (_loads) and its
-    Hessian added exactly (end_friction_hessian). Along a random direction p of the step
-    coordinates, dPhi/dalpha must equal g.p and the change of g must equal H p, with ends on
-    both branches (anchors within and beyond f_max/k_t). Central differences with alpha = 1e-6
-    err by ~ alpha^2 |third derivative| ~ 1e-9 of the largest entries (k_w ~ 1e3, the bonds
-    2e3); a term missing from the Hessian (the rotation's lever s h, the slip projector) errs
-    by ~ k_t = 100 on the entries it touches, so 1e-4 relative to |H p| separates them."""
-    from confined_rod.sim.solvers import implicit_kernels as IK
+def _ends_on_the_wall(rng):
+    """A random rod of 12 R with friction at the link ends and no cap, an implicit step begun on
+    it (dt = 10): (scene, stepper, r, t, the ends on the wall), at least six of them."""
     from confined_rod.sim.solvers.base import RunState
     from confined_rod.sim.solvers.implicit import ImplicitStepper
 
@@ -488,6 +481,20 @@ def test_friction_at_the_ends_is_the_gradient_and_hessian_of_its_envelope(rng):
     S._start_step(st, 10.0)
     on = np.flatnonzero(S.fmax > 0.0)
     assert on.size >= 6
+    return scene, S, r, t, on
+
+
+def test_friction_at_the_ends_is_the_gradient_and_hessian_of_its_envelope(rng):
+    """Friction at the link ends (friction_at 'ends') enters each Newton step as the stick
+    envelope of every end on the wall, its force and torque added to the loads (_loads) and its
+    Hessian added exactly (end_friction_hessian). Along a random direction p of the step
+    coordinates, dPhi/dalpha must equal g.p and the change of g must equal H p, with ends on
+    both branches (anchors within and beyond f_max/k_t). Central differences with alpha = 1e-6
+    err by ~ alpha^2 |third derivative| ~ 1e-9 of the largest entries (k_w ~ 1e3, the bonds
+    2e3); a term missing from the Hessian (the rotation's lever s h, the slip projector) errs
+    by ~ k_t = 100 on the entries it touches, so 1e-4 relative to |H p| separates them."""
+    from confined_rod.sim.solvers import implicit_kernels as IK
+    scene, S, r, t, on = _ends_on_the_wall(rng)
     # anchors displaced tangentially: half of the ends inside their stick zone, half beyond it
     reach = S.fmax / S.kt
     scale = np.where(np.arange(S.fmax.size) % 2 == 0, 0.3, 3.0) * reach
@@ -556,22 +563,11 @@ def test_end_slip_model_gives_the_step_the_envelopes_gradient_where_stuck_ends_s
     it by about k_t |d'| - f_max per end, tens of f_max (measured 39 f_max, held to above 5). The kernel's terms are its numpy
     twin's (slip_branch_point_model) through the end Jacobians."""
     from confined_rod.sim.solvers import implicit_kernels as IK
-    from confined_rod.sim.solvers.base import RunState
-    from confined_rod.sim.solvers.implicit import ImplicitStepper
-
-    from .conftest import random_state
-
-    scene = Scene(L=12.0, load=0.25, k_fr=0.8, friction_at="ends", friction_cap=0.0)
-    r, t = random_state(scene, rng, lateral=1.0)
-    S = ImplicitStepper(scene, dt=10.0)
-    st = RunState(r=r, t=t)
-    S._start_step(st, 10.0)
-    on = np.flatnonzero(S.fmax > 0.0)
-    assert on.size >= 6
+    scene, S, r, t, on = _ends_on_the_wall(rng)
     S.fmax[on] = 0.01  # a bound of the publication rods' size (the random state presses far harder)
     reach = S.fmax / S.kt
-    S.anchor += (S.pf[:, 1] * rng.normal(size=(S.fmax.size, 1)) + S.pf[:, 2] * rng.normal(size=(S.fmax.size, 1))) \
-        * 0.3 * reach[:, None] / np.sqrt(2.0)
+    sideways = S.pf[:, 1] * rng.normal(size=(S.fmax.size, 1)) + S.pf[:, 2] * rng.normal(size=(S.fmax.size, 1))
+    S.anchor += sideways * 0.3 * reach[:, None] / np.sqrt(2.0)
     IK.tangent_bases(t, S.e1, S.e2)
     p = np.zeros((scene.N, IK.NDOF))
     p[:, 2] = 20.0 * reach[on].max()  # every link moved along the axis (the frame's third vector), no turn
