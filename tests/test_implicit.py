@@ -560,8 +560,8 @@ def test_end_slip_model_gives_the_step_the_envelopes_gradient_where_stuck_ends_s
     the ends the step carries past their bound switched to the slip branch (end_slip_model)
     predicts the gradient of Phi at the displaced state to the model's second-order error
     (|p| ~ 1e-5 R: measured 1e-10 of f_max, held to 1e-4), while the stick-branch model misses
-    it by about k_t |d'| - f_max per end, tens of f_max (measured 39 f_max, held to above 5). The kernel's terms are its numpy
-    twin's (slip_branch_point_model) through the end Jacobians."""
+    it by about k_t |d'| - f_max per end, tens of f_max (measured 39 f_max, held to above 5). The
+    kernel's terms are its numpy twin's (slip_branch_point_model) through the end Jacobians."""
     from confined_rod.sim.solvers import implicit_kernels as IK
     scene, S, r, t, on = _ends_on_the_wall(rng)
     S.fmax[on] = 0.01  # a bound of the publication rods' size (the random state presses far harder)
