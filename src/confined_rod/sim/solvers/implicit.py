@@ -158,6 +158,7 @@ class ImplicitStepper:
         self.frame = np.zeros((n, 3, 3))
         self.g, self.g0, self.g_fd, self.gp = (np.zeros((n, IK.NDOF)) for _ in range(4))
         self.ab = np.zeros((IK.BAND + 1, IK.NDOF * n))
+        self.ab_base = np.zeros_like(self.ab)  # the Hessian before the active-set model's switches
         self.chol = IK.cholesky_work(n)  # its Cholesky factor, by blocks
         self.p = np.zeros(IK.NDOF * n)  # Newton direction
         self.p_keep, self.rhs = np.zeros(IK.NDOF * n), np.zeros(IK.NDOF * n)
@@ -297,13 +298,15 @@ class ImplicitStepper:
         stretch passes a change of axial force on over about sqrt(k_ph/(l0 k_t)) links per solve,
         one at k_t = k_ph/l0, so a slip front moves about one link per pass instead of per Newton
         iteration (L/R = 1280, seed 0: 191 900 Newton iterations with one pass and no slip
-        switch, 19 000 with six; benchmarks/results/profile_long_rods.json)."""
-        base = self.ab.copy() if self.passes > 1 else self.ab
+        switch, 19 000 with six; benchmarks/results/profile_long_rods_a62bb36.json and
+        profile_long_rods.json)."""
+        if self.passes > 1:
+            np.copyto(self.ab_base, self.ab)
+        gm = self.gm
         last = None
         for k in range(self.passes):
             if k > 0:
-                self.ab[:] = base
-            gm = self.gm
+                np.copyto(self.ab, self.ab_base)
             gm[:] = g
             n_stick = n_slip = 0
             if self.use_friction and self.ends:
