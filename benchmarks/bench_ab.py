@@ -13,7 +13,7 @@ length the medians and the median of the per-seed ratios this/other.  The rods a
 the ramped figures, Fig 4(c)'s rod with --lengths 320 --ramp-steps 128).
 
 Usage: python benchmarks/bench_ab.py OTHER_CHECKOUT [--lengths 640 1280] [--seeds 5] [--ramp-steps N]
-                                     [-o PATH]
+                                     [--k-fr K] [-o PATH]
 """
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ PUBLICATION = dict(load=0.25, k_fr=0.8, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5)
 HERE = Path(__file__).resolve().parents[1]
 
 
-def one(L: float, seed: int, ramp_steps: int = 0) -> dict:
+def one(L: float, seed: int, ramp_steps: int = 0, k_fr: float | None = None) -> dict:
     """One run in this process (the child's side)."""
     import numpy as np
     import xarray as xr
@@ -43,7 +43,8 @@ def one(L: float, seed: int, ramp_steps: int = 0) -> dict:
     from confined_rod.sim.solvers.implicit import ImplicitStepper
 
     protocol = dict(protocol="ramp", ramp_steps=ramp_steps) if ramp_steps else {}
-    sc = Scene(L=L, seed=seed, name=f"ab/L{L:g}-s{seed}", **PUBLICATION, **protocol)
+    numerics = PUBLICATION | ({} if k_fr is None else {"k_fr": k_fr})
+    sc = Scene(L=L, seed=seed, name=f"ab/L{L:g}-s{seed}", **numerics, **protocol)
     t0 = time.perf_counter()
     st = run_protocol(sc, ImplicitStepper, progress=False)
     wall = time.perf_counter() - t0
@@ -55,10 +56,11 @@ def one(L: float, seed: int, ramp_steps: int = 0) -> dict:
             "reversals": len(ensembles.shape(sim).reversals), "package": str(Path(confined_rod.__file__).parent)}
 
 
-def child(checkout: Path, L: float, seed: int, ramp_steps: int = 0) -> dict:
+def child(checkout: Path, L: float, seed: int, ramp_steps: int = 0, k_fr: float | None = None) -> dict:
     env = dict(os.environ, PYTHONPATH=str(checkout / "src"), NUMBA_CACHE_DIR=str(checkout / ".numba_cache_ab"),
                NUMBA_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    out = subprocess.run([sys.executable, __file__, "--one", str(L), str(seed), str(ramp_steps)], env=env, check=True,
+    out = subprocess.run([sys.executable, __file__, "--one", str(L), str(seed), str(ramp_steps)]
+                         + ([] if k_fr is None else ["--k-fr", str(k_fr)]), env=env, check=True,
                          capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -74,11 +76,12 @@ def main() -> None:
     ap.add_argument("--lengths", type=float, nargs="+", default=[640, 1280])
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--ramp-steps", type=int, default=0, help="load by a ramp of this many loads (0: full load)")
+    ap.add_argument("--k-fr", type=float, default=None, help="wall friction k_fr instead of Fig 6's 0.8 (0.3: Fig 4(b))")
     ap.add_argument("--one", type=float, nargs=3, metavar=("L", "SEED", "RAMP"), help=argparse.SUPPRESS)
     ap.add_argument("-o", "--output", default="benchmarks/results/ab.json")
     args = ap.parse_args()
     if args.one:
-        print(json.dumps(one(args.one[0], int(args.one[1]), int(args.one[2]))))
+        print(json.dumps(one(args.one[0], int(args.one[1]), int(args.one[2]), args.k_fr)))
         return
     if not args.other or not (Path(args.other) / "src" / "confined_rod").is_dir():
         raise SystemExit(f"bench_ab: the other checkout {args.other!r} has no src/confined_rod")
@@ -87,6 +90,7 @@ def main() -> None:
         child(path, 10.0, 0)
     out: dict = {"setup": "Fig 6's rods at the publication numerics, " + ", ".join(f"{k} {v:g}" for k, v in
                                                                                     PUBLICATION.items())
+                 + ("" if args.k_fr is None else f", k_fr {args.k_fr:g} instead")
                  + (f"; ramp of {args.ramp_steps} loads" if args.ramp_steps else "; straight start") + "; one core; solver time only; this and other in turn, fresh processes",
                  "this": {"path": str(HERE), "git_commit": git_commit(HERE)},
                  "other": {"path": str(sides["other"]), "git_commit": git_commit(sides["other"])},
@@ -96,7 +100,7 @@ def main() -> None:
     for L in args.lengths:
         runs = []
         for seed in range(args.seeds):
-            pair = {side: child(p, L, seed, args.ramp_steps) for side, p in sides.items()}
+            pair = {side: child(p, L, seed, args.ramp_steps, args.k_fr) for side, p in sides.items()}
             runs.append(pair)
             print(json.dumps(pair), flush=True)
         row = {"L": L, "runs": runs}
