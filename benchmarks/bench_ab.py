@@ -76,7 +76,8 @@ def main() -> None:
     ap.add_argument("--lengths", type=float, nargs="+", default=[640, 1280])
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--ramp-steps", type=int, default=0, help="load by a ramp of this many loads (0: full load)")
-    ap.add_argument("--k-fr", type=float, default=None, help="wall friction k_fr instead of Fig 6's 0.8 (0.3: Fig 4(b))")
+    ap.add_argument("--k-fr", type=float, default=None,
+                    help="wall friction k_fr instead of Fig 6's 0.8 (0.3: Fig 4(b))")
     ap.add_argument("--one", type=float, nargs=3, metavar=("L", "SEED", "RAMP"), help=argparse.SUPPRESS)
     ap.add_argument("-o", "--output", default="benchmarks/results/ab.json")
     args = ap.parse_args()
@@ -91,7 +92,8 @@ def main() -> None:
     out: dict = {"setup": "Fig 6's rods at the publication numerics, " + ", ".join(f"{k} {v:g}" for k, v in
                                                                                     PUBLICATION.items())
                  + ("" if args.k_fr is None else f", k_fr {args.k_fr:g} instead")
-                 + (f"; ramp of {args.ramp_steps} loads" if args.ramp_steps else "; straight start") + "; one core; solver time only; this and other in turn, fresh processes",
+                 + (f"; ramp of {args.ramp_steps} loads" if args.ramp_steps else "; straight start")
+                 + "; one core; solver time only; this and other in turn, fresh processes",
                  "this": {"path": str(HERE), "git_commit": git_commit(HERE)},
                  "other": {"path": str(sides["other"]), "git_commit": git_commit(sides["other"])},
                  "lengths": []}
