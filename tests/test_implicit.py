@@ -597,36 +597,3 @@ def test_end_slip_model_gives_the_step_the_envelopes_gradient_where_stuck_ends_s
     scale = S.fmax[on].max()
     assert np.abs(model - g1).max() < 1e-4 * scale
     assert np.abs(stick_only - g1).max() > 5 * scale
-
-
-def test_a_ramp_stage_starts_where_the_drift_of_its_forces_carries_a_link_end_dx_max(monkeypatch):
-    """ImplicitStepper.resume (called by run_protocol at every ramp stage after the first): on a
-    straight rod on the axis the only force is the load on the loaded link and there is no torque,
-    so the first step is the one that lets that link drift 0.9 dx_max at speed load/beta, beta =
-    beta_ph l0 the drag of one link: 0.9 dx_max beta_ph l0/load = 0.036 at dx_max 0.02, l0 0.5,
-    load 0.25 (70x the default start, DT_START_FACTOR x the explicit limit). A frictionless ramp
-    (one equilibrium per stage up to its tol) ends in the same state with it as without it, in
-    fewer steps."""
-    from confined_rod.sim import observables as obs
-    from confined_rod.sim.solvers import base, implicit
-
-    sc = Scene(L=20.0, load=0.25, name="resume")
-    r, t = sc.initial_state()
-    r[:, :2] = 0.0
-    stepper = implicit.ImplicitStepper(sc)
-    default = stepper.dt
-    stepper.resume(base.RunState(r=r, t=t))
-    assert stepper.dt == pytest.approx(0.9 * sc.dx_max * sc.l0 / sc.load, rel=1e-12)
-    assert stepper.dt > 10 * default
-
-    ramp = Scene(L=40.0, load=0.25, k_fr=0.0, protocol="ramp", ramp_steps=16, seed=1, name="ramp")
-    new = implicit.run(ramp, progress=False)
-    monkeypatch.setattr(implicit.ImplicitStepper, "resume", lambda self, st: None)
-    old = implicit.run(ramp, progress=False)
-    assert new.converged and old.converged
-    assert new.steps < old.steps
-    # same helix: its axial extent to 1e-3 R (they differ by 2e-5 R: each stops at tol = 1e-5 of the
-    # load, and a stage's state is fixed by its load up to that; 1e-3 R is 1/20 of a link's pitch step)
-    assert new.r[:, 2].max() == pytest.approx(old.r[:, 2].max(), abs=1e-3)
-    assert obs.compute(ramp, new.r, new.t).F_transmitted == pytest.approx(
-        obs.compute(ramp, old.r, old.t).F_transmitted, rel=1e-4)

@@ -131,3 +131,97 @@ def test_the_replay_runs_the_logged_jobs_through_the_estimator():
     out = tool.replay(log)
     assert out["wall_s"] == 200.0 and out["lines"] == 4
     assert out["rows"][1]["true_left_s"] == 100.0 and out["rows"][1]["said_left_s"] == pytest.approx(100.0)
+
+
+def _fit_tool():
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.spec_from_file_location(
+        "fit_cost_model", Path(__file__).resolve().parents[1] / "tools" / "fit_cost_model.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    return tool
+
+
+def test_the_cost_fit_recovers_constructed_exponents_and_keeps_the_prior_of_one_it_cannot_see():
+    """Runs timed exactly as t = 3 (L/640 R)^2.3 (ramp_steps/128)^0.7 at one l0 and dx_max: the fit
+    returns 2.3 and 0.7 (the prior's pull, a pseudo-run of weight 0.1 towards 1.9 and 1 against 12
+    runs spread over a factor 8 in L and 16 in ramp steps, moves them by ~1e-3), ln 3 for the
+    coefficient, and for dx_max, which the runs do not vary, the prior 0.5."""
+    import math
+
+    from confined_rod import Scene, limits
+
+    tool = _fit_tool()
+    items = []
+    for L in (80.0, 160.0, 320.0, 640.0):
+        for n in (32, 128, 512):
+            sc = Scene(L=L, load=0.25, k_fr=0.8, protocol="ramp", ramp_steps=n, name="x")
+            items.append(tool.Run(sc, 3.0 * (L / 640.0) ** 2.3 * (n / 128.0) ** 0.7, ""))
+    assert {limits.cost_class(r.scene) for r in items} == {"implicit/ramp/friction"}
+    c = tool.fit_class(items)
+    assert c["L_exponent"] == pytest.approx(2.3, abs=0.02)
+    assert c["ramp_exponent"] == pytest.approx(0.7, abs=0.02)
+    assert c["dx_exponent"] == pytest.approx(tool.PRIORS["dx"], abs=1e-9)
+    assert c["log_coef"] == pytest.approx(math.log(3.0), abs=0.05)
+
+
+def test_the_solver_estimate_reads_the_fitted_class_and_falls_back_to_the_prior(monkeypatch):
+    """A class in the model is predicted from its coefficients (here exp(0) (L/640 R)^2, so a rod of
+    L = 320 R costs 1/4 s), capped by a step budget at max_steps x N x the class's time per step
+    and link (1000 steps of 640 links at 1 us: 0.64 s, above the model; 250 steps: 0.16 s), one it
+    lacks from the prior model; the committed model names its classes as cost_class does and
+    each fitted its build's runs within a factor 3 (rms of ln)."""
+    import json
+    import math
+
+    from confined_rod import Scene, limits
+
+    model = {"classes": {"implicit/straight/friction": {"log_coef": 0.0, "L_exponent": 2.0, "dx_exponent": 0.0}}}
+    monkeypatch.setattr(limits, "cost_model", lambda: model)
+    straight = Scene(L=320.0, load=0.25, k_fr=0.8, name="a")
+    assert limits.estimated_solver_time(straight) == pytest.approx(0.25)
+    model["classes"]["implicit/straight/friction"]["step_s_per_link"] = 1e-6
+    budget = Scene(L=320.0, load=0.25, k_fr=0.8, max_steps=1000, name="c")
+    assert limits.estimated_solver_time(budget) == pytest.approx(0.25)
+    assert limits.estimated_solver_time(Scene(L=320.0, load=0.25, k_fr=0.8, max_steps=250, name="d")) == \
+        pytest.approx(0.16)
+    helix = Scene(L=320.0, load=0.25, k_fr=0.8, protocol="helix", name="b")
+    assert limits.estimated_solver_time(helix) == pytest.approx(limits._prior_solver_time(helix))
+    committed = json.loads(limits.COST_MODEL_FILE.read_text())
+    solvers, protocols = {"implicit", "explicit"}, set(limits_protocols())
+    for key, c in committed["classes"].items():
+        solver, protocol, friction = key.split("/")
+        assert solver in solvers and protocol in protocols and friction in ("friction", "frictionless")
+        assert c["rms_log_error"] < math.log(3.0)
+
+
+def limits_protocols():
+    from confined_rod.sim.scenes import PROTOCOLS
+
+    return PROTOCOLS
+
+
+def test_the_replay_can_take_each_jobs_estimate_from_the_current_cost_model():
+    """--reestimate: a batch's estimate is its members' (named first-to-last in the figure's order)
+    solver estimates and one start-up, a scene run alone its own and a start-up, a scene moved from
+    its batch (logged est_s 0) nothing, a rule without scenes its logged estimate."""
+    import importlib.util
+    from pathlib import Path
+
+    from confined_rod import limits, pipeline
+
+    root = Path(__file__).resolve().parents[1]
+    spec = importlib.util.spec_from_file_location("progress_error", root / "tools" / "progress_error.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    est = tool.reestimator(str(root / "config" / "ci.yaml"))
+    config = pipeline.check(pipeline.read_config(root / "config" / "ci.yaml"))
+    members = ["L10-s0", "L10-s1", "L10-s2", "L20-s0"]
+    assert est("batch", {"figure": "fig6_FonL", "batch": "L10-s0-to-L20-s0"}, 9.0) == pytest.approx(
+        limits.JOB_STARTUP_S + sum(pipeline.solver_estimate(config, "fig6_FonL", m) for m in members))
+    assert est("simulate", {"figure": "fig6_FonL", "scene": "L20-s1"}, 3.0) == pytest.approx(
+        limits.JOB_STARTUP_S + pipeline.solver_estimate(config, "fig6_FonL", "L20-s1"))
+    assert est("simulate", {"figure": "fig6_FonL", "scene": "L20-s1"}, 0.0) == 0.0
+    assert est("figure", {"figure": "fig6_FonL"}, None) is None

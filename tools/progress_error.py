@@ -1,11 +1,16 @@
 """How well a build's progress lines told the time left: each line's estimate against the real
 time left (the build's last line gives its end), from 10 % of the jobs on.
 
-Usage: python tools/progress_error.py BUILD_LOG [--replay] [-o benchmarks/results/progress_error.json] [--note TEXT]
+Usage: python tools/progress_error.py BUILD_LOG [--replay [--reestimate CONFIG]] [-o OUT.json] [--note TEXT]
 
 --replay: instead of the lines the build printed, replay the jobs' start and finish times that
 Snakemake logged (with each job's est_s) through the current estimator (pipeline.progress), so a
 change of the estimator is measured on a real build's timeline.
+--reestimate CONFIG (with --replay): each job's estimate from the current cost model
+(limits.estimated_solver_time) for the scenes its wildcards name in CONFIG, as the rules' est_s
+would give it now, instead of the logged est_s: a change of the cost model measured on the same
+timeline (the jobs keep their logged order and times; a build with the new estimates would
+schedule them a little differently).
 """
 from __future__ import annotations
 
@@ -39,8 +44,40 @@ def read(log: str) -> dict:
     return _summary(rows, end)
 
 
-def replay(log: str, cores: int = 2) -> dict:
-    """The estimator's time left after each finished job of the build that wrote ``log``."""
+def reestimator(config_path: str):
+    """est(rule, wildcards, logged est_s): a job's estimate from the current cost model, as the
+    rules' est_s gives it (workflow/rules/common.smk: a scene's job its solver estimate and the
+    start-up, 0 for one moved into place from its batch; a batch its members' sum and one start-up,
+    the members named by the batch, first-to-last in the figure's order; a load path ten runs;
+    rule views its simulations, workflow/rules/views.smk)."""
+    from confined_rod import limits, pipeline
+    from confined_rod.pipeline import progress
+
+    config = pipeline.check(pipeline.read_config(config_path))  # expanded, as the rules see it
+
+    def one(figure: str, scene: str) -> float:
+        return limits.JOB_STARTUP_S + pipeline.solver_estimate(config, figure, scene)
+
+    def est(rule: str, wc: dict[str, str], logged: float | None) -> float | None:
+        if rule in ("simulate", "probe") and "scene" in wc:
+            return 0.0 if logged == 0 else one(wc["figure"], wc["scene"])
+        if rule == "batch" and "batch" in wc:
+            names = pipeline.scenes(config, wc["figure"])
+            first, _, last = wc["batch"].partition("-to-")
+            members = names[names.index(first): names.index(last or first) + 1]
+            return limits.JOB_STARTUP_S + sum(pipeline.solver_estimate(config, wc["figure"], m) for m in members)
+        if rule == "load_path" and "scene" in wc:
+            return 10 * one(wc["figure"], wc["scene"])
+        if rule == "views":
+            return progress.views_estimate(len(pipeline.view_sims(config)))
+        return logged
+
+    return est
+
+
+def replay(log: str, cores: int = 2, reestimate=None) -> dict:
+    """The estimator's time left after each finished job of the build that wrote ``log`` (each
+    job's estimate from ``reestimate(rule, wildcards, logged est_s)`` if given)."""
     stamp, job, events = None, None, []
     for line in log.splitlines():
         text = line.strip()
@@ -50,7 +87,7 @@ def replay(log: str, cores: int = 2) -> dict:
             continue
         m = re.match(r"^(?:local)?rule (\w+):$", text)
         if m:
-            job = {"rule": m[1], "t": stamp, "est": None, "id": None}
+            job = {"rule": m[1], "t": stamp, "est": None, "id": None, "wc": {}}
             continue
         m = re.search(r"Finished jobid: (\d+)", line)
         if m:
@@ -62,8 +99,11 @@ def replay(log: str, cores: int = 2) -> dict:
             m = re.search(r"est_s=(\d+)", text)
             if m:
                 job["est"] = float(m[1])
+            if text.startswith("wildcards:"):
+                job["wc"] = dict(kv.split("=", 1) for kv in text[len("wildcards:"):].replace(" ", "").split(","))
             if job["id"] is not None and (text.startswith("resources") or not text):
-                events.append(("start", job["id"], job["t"], job["rule"], job["est"]))
+                est = job["est"] if reestimate is None else reestimate(job["rule"], job["wc"], job["est"])
+                events.append(("start", job["id"], job["t"], job["rule"], est))
                 job = None
     starts = {e[1]: e for e in events if e[0] == "start"}
     if not starts:
@@ -98,9 +138,14 @@ def main(argv=None) -> int:
     ap.add_argument("-o", "--out")
     ap.add_argument("--note", default="")
     ap.add_argument("--replay", action="store_true", help="replay the logged jobs through the current estimator")
+    ap.add_argument("--reestimate", metavar="CONFIG", help="with --replay: the jobs' estimates from the current "
+                    "cost model for this config instead of the logged est_s")
     a = ap.parse_args(argv)
+    if a.reestimate and not a.replay:
+        raise SystemExit("progress_error: --reestimate needs --replay")
     text = Path(a.log).read_text(errors="replace")
-    out = (replay(text) if a.replay else read(text)) | {"note": a.note, "replayed": a.replay}
+    out = (replay(text, reestimate=reestimator(a.reestimate) if a.reestimate else None) if a.replay
+           else read(text)) | {"note": a.note, "replayed": a.replay, "reestimated": a.reestimate or ""}
     summary = out["from_10_percent"]
     print(f"progress_error: {out['lines']} lines, build {out['wall_s']:.0f} s; from 10 % of the jobs on "
           f"(and >= 1 min left) the estimate was {summary['min_ratio']}-{summary['max_ratio']} x the real time left")

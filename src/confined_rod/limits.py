@@ -29,8 +29,11 @@ the command line refuses a scene above its budget unless told otherwise.
 """
 from __future__ import annotations
 
+import functools
+import json
 import math
 import re
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
@@ -248,21 +251,79 @@ def state_violations(scene, r: np.ndarray, t: np.ndarray) -> list[str]:
 JOB_STARTUP_S = 2.0
 
 
-def estimated_solver_time(scene) -> float:
-    """Rough time of a run's solver on one core of the reference machine (seconds), from
-    measured runs (benchmarks/results/publication.json): implicit at the publication numerics,
-    L/R = 640 at l0 = 0.5 R (1280 links), k_fr = 0.8: 6.3 s, growing as N^1.9 (frictionless runs
-    are faster), times 1 + ramp_steps/20 for a ramp; explicit, L/R = 80 at l0 = 0.5 R,
-    k_ph = 1e3: 7 min, growing as L^2.5 and as the step shrinks (1/l0^3, 1/k_ph)."""
-    n = scene.L / scene.l0
-    if scene.solver == "implicit":
-        # a ramp relaxes the rod once per load: measured 7-14x a full-load run for 128-256 loads
-        # (the publication build's protocols_L640 and conv_ramp_steps batches)
-        ramp = 1.0 + scene.ramp_steps / 20.0 if scene.protocol == "ramp" else 1.0
-        return 6.3 * (n / 1280.0) ** 1.9 * ramp
+#: the cost model fitted to a publication build's runs (tools/fit_cost_model.py writes it)
+COST_MODEL_FILE = Path(__file__).with_name("cost_model.json")
+
+
+def cost_class(scene) -> str:
+    """The class of a run in the cost model: solver, protocol, with or without friction."""
+    return f"{scene.solver}/{scene.protocol}/{'friction' if scene.k_fr > 0 else 'frictionless'}"
+
+
+def explicit_cost_shape(scene) -> float:
+    """How the explicit scheme's cost grows (a pure number, 1 at L/R = 80, l0 = R/2, k_ph = 1e3,
+    dt_factor 0.8): the steps to settle grow as L^2 (diffusive relaxation) and the work per step as
+    L, the step shrinks as l0^3 (bending) and 1/k_ph (the bonds)."""
     k_rel = max(1.0, scene.k_ph * scene.R**2 / scene.EI / 1e3)
-    return 420.0 * (scene.L / scene.R / 80.0) ** 2.5 * (0.5 * scene.R / scene.l0) ** 3 * k_rel \
-        * (0.8 / scene.dt_factor)
+    return (scene.L / scene.R / 80.0) ** 2.5 * (0.5 * scene.R / scene.l0) ** 3 * k_rel * (0.8 / scene.dt_factor)
+
+
+@functools.lru_cache(maxsize=1)
+def cost_model() -> dict:
+    """The fitted cost model ({} if its file is missing: the prior model then answers alone)."""
+    try:
+        return json.loads(COST_MODEL_FILE.read_text())
+    except FileNotFoundError:
+        return {}
+
+
+def _prior_solver_time(scene) -> float:
+    """The model before a fit (and for a class no fitted build has run): implicit at the
+    publication numerics, L/R = 640 at l0 = 0.5 R (1280 links), k_fr = 0.8: 6.3 s, growing as
+    N^1.9, times 1 + ramp_steps/20 for a ramp; explicit, L/R = 80 at l0 = 0.5 R, k_ph = 1e3: 7 min,
+    growing as explicit_cost_shape."""
+    if scene.solver == "implicit":
+        ramp = 1.0 + scene.ramp_steps / 20.0 if scene.protocol == "ramp" else 1.0
+        return 6.3 * (scene.L / scene.l0 / 1280.0) ** 1.9 * ramp
+    return 420.0 * explicit_cost_shape(scene)
+
+
+def cost_regressors(scene) -> tuple[float, dict[str, float]]:
+    """(offset, {exponent: regressor}) of a run in its class's cost model, ln t = b + offset +
+    sum of exponent x regressor: implicit, the logarithms of L/(640 R) and 0.5 R/l0 (apart: a
+    finer l0 at a given N is cheaper than a longer rod, whose helix and slip fronts grow with
+    it), 0.02 R/dx_max, the load over 0.25 EI/R^2, k_fr/0.8 (with friction) and
+    ramp_steps/128 (a ramp); explicit, the offset ln explicit_cost_shape, a correction of its
+    l0^-3 (the logarithm of 0.5 R/l0) and the logarithm of 1e-5/tol (explicit runs relax at the
+    rate of their slowest mode, so the tolerance sets their length; too few of them to fit more)."""
+    if scene.solver == "explicit":
+        return math.log(explicit_cost_shape(scene)), {"l0": math.log(0.5 * scene.R / scene.l0),
+                                                      "tol": math.log(1e-5 / scene.tol)}
+    x = {"L": math.log(scene.L / (640.0 * scene.R)), "l0": math.log(0.5 * scene.R / scene.l0),
+         "dx": math.log(0.02 * scene.R / scene.dx_max),
+         "load": math.log(scene.load * scene.R**2 / scene.EI / 0.25)}
+    if scene.k_fr > 0:
+        x["k_fr"] = math.log(scene.k_fr / 0.8)
+    if scene.protocol == "ramp":
+        x["ramp"] = math.log(scene.ramp_steps / 128.0)
+    return 0.0, x
+
+
+def estimated_solver_time(scene) -> float:
+    """Rough time of a run's solver on one core of the reference machine (seconds): the cost
+    model fitted to a publication build's runs (COST_MODEL_FILE, tools/fit_cost_model.py), per
+    class (cost_class), exp(b + offset + sum of exponent x regressor) over cost_regressors, and
+    for a run with a step budget at most max_steps x N x the class's measured time per step and
+    link (explicit runs: a capped stress probe); a class the fit has not seen uses
+    _prior_solver_time."""
+    c = cost_model().get("classes", {}).get(cost_class(scene))
+    if c is None:
+        return _prior_solver_time(scene)
+    offset, x = cost_regressors(scene)
+    t = math.exp(c["log_coef"] + offset + sum(c.get(f"{k}_exponent", 0.0) * v for k, v in x.items()))
+    if scene.max_steps and c.get("step_s_per_link"):  # a step budget caps the run's steps
+        t = min(t, scene.max_steps * scene.N * c["step_s_per_link"])
+    return t
 
 
 def estimated_wall_time(scene) -> float:

@@ -7,7 +7,7 @@ from snakemake_interface_executor_plugins.settings import DeploymentMethod
 
 from confined_rod import layout, limits, pipeline
 from confined_rod.claims import manuscript
-from confined_rod.pipeline import code
+from confined_rod.pipeline import code, progress
 
 # Before any job: each config file re-read strictly (duplicate keys, aliases, line
 # numbers), the JSON schema (workflow/schemas/config.schema.yaml, one-line errors),

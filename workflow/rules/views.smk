@@ -42,6 +42,7 @@ rule views:
     resources:
         mem_mb=1000,
         runtime=10,
+        est_s=lambda wildcards: progress.views_estimate(len(pipeline.view_sims(config))),
     conda:
         "../envs/confined_rod.yaml"
     script:

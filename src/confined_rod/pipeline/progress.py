@@ -22,6 +22,10 @@ from dataclasses import dataclass, field
 RULE_ESTIMATE_S = {"postprocess": 2.0, "figure": 3.6, "convergence_check": 1.5, "claims": 14.0,
                    "paper_sources": 1.8, "paper": 2.5, "views": 6.2, "all": 0.0}
 DEFAULT_ESTIMATE_S = 2.0
+#: rule views draws every simulation: seconds per simulation beyond the job's start-up (the
+#: publication build of 5bc6f88: 64.7 s for 1 101 simulations, a build's longest job but one
+#: whose RULE_ESTIMATE_S, measured on the CI grid's 82, was 6.2 s)
+VIEW_S_PER_SIM = 0.057
 #: seconds between two reports (the last job is always reported)
 REPORT_EVERY_S = 10.0
 #: finished jobs (with an estimate) before the estimate is corrected by the measured speed
@@ -40,6 +44,11 @@ def duration(seconds: float) -> str:
     if seconds < 5400:
         return f"{seconds / 60:.1f} min"
     return f"{seconds / 3600:.1f} h"
+
+
+def views_estimate(n_sims: int) -> int:
+    """The est_s of rule views: the start-up and VIEW_S_PER_SIM per simulation it draws."""
+    return int(round(RULE_ESTIMATE_S["figure"] + VIEW_S_PER_SIM * n_sims))
 
 
 def job_estimate(rule: str, est_s: float | None) -> float:

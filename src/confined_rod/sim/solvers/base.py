@@ -84,8 +84,6 @@ class Stepper(Protocol):
 
     def advance(self, st: RunState, t_stop: float) -> int: ...
 
-    def resume(self, st: RunState) -> None: ...  # take over a state relaxed at another load
-
 
 def normalised_residuals(scene: Scene, t: np.ndarray, ws: Workspace) -> tuple[float, float]:
     fmax, mmax = K.residuals(t, ws.F, ws.M)
@@ -246,10 +244,7 @@ def run_protocol(scene: Scene, make_stepper: Callable[[Scene], Stepper], *,
         loads = scene.ramp_loads()
         for i, F in enumerate(loads):
             stage = scene if F == scene.load else ramp_stage(scene, float(F))
-            stepper = make_stepper(stage)
-            if i > 0:
-                stepper.resume(st)
-            relax(stage, st, stepper, progress=progress,
+            relax(stage, st, make_stepper(stage), progress=progress,
                   label=f" ramp {i + 1}/{len(loads)}, load {F:.3g}")
             if st.escaped:
                 return st

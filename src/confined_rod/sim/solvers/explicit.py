@@ -29,9 +29,6 @@ class ExplicitStepper:
         n2 = 2 * scene.N
         self.Ne, self.fmax, self.pf = np.zeros(n2), np.zeros(n2), np.zeros((n2, 3, 3))
 
-    def resume(self, st: RunState) -> None:
-        """Take over a state relaxed at another load: nothing to do (the step is fixed)."""
-
     def advance(self, st: RunState, t_stop: float) -> int:
         nsteps = int(min(self.chunk, max(1, np.ceil((t_stop - st.time) / self.dt - 1e-9))))
         if self.max_steps:  # stop exactly at the step budget

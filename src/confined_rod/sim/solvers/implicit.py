@@ -504,20 +504,6 @@ class ImplicitStepper:
         return float(np.max(np.linalg.norm(r - self.rn, axis=1) + self.h * np.linalg.norm(t - self.tn, axis=1)))
 
     # -- adaptive stepping ---------------------------------------------------------
-    def resume(self, st: RunState) -> None:
-        """Take over a state relaxed at another load (the next stage of a ramp): the first step
-        is the one the step control would choose after a step at the current forces, the drift of
-        the fastest link end (translation |F|/beta plus rotation h |M x t|/gamma_r) carried 0.9 dx_max,
-        instead of DT_START_FACTOR x the explicit limit, from which dt needs ~log2 of their ratio
-        doublings to reach the same size (a ramp of 256 stages spent most of its steps there).
-        Never below the default start; a state already at rest keeps the default."""
-        anchors = st.anchor if self.ends and st.anchor is not None else None
-        evaluate(self.par, st.r, st.t, self.ws, anchors, self.kt)
-        fmax, mmax = K.residuals(st.t, self.ws.F, self.ws.M)
-        drift = fmax / self.beta + self.h * mmax / self.gamma_r
-        if drift > 0.0:
-            self.dt = max(self.dt, 0.9 * self.dx_max / drift)
-
     def advance(self, st: RunState, t_stop: float) -> int:
         while True:
             dt = min(self.dt, t_stop - st.time)
