@@ -13,7 +13,8 @@ simulation and probe under RESULTS_DIR (results/sims, results/probes) and fits, 
 (limits.cost_regressors) by least squares with a weak pull (one pseudo-run of weight
 ``PRIOR_WEIGHT`` each) of the exponents towards PRIORS (the hand model's N^1.9 = L^1.9 l0^-1.9,
 linear in the ramp's loads, dx_max^-1/2, no dependence on load or k_fr), so an exponent the build's runs do
-not vary (one length, one dx_max) keeps its prior instead of an arbitrary value. Writes the
+not vary (one length, one dx_max) keeps its prior instead of an arbitrary value; a class of
+fewer than MIN_RUNS_FOR_EXPONENTS runs fits its coefficient only. Writes the
 coefficients, the number of runs and the fit's scatter per class (the rms of ln(measured /
 predicted), and the median and range of that ratio), with the build's commit and the date, to
 the package's cost model file, which limits.estimated_solver_time reads. The build's machine is
@@ -42,6 +43,7 @@ from confined_rod.sim.scenes import Scene  # noqa: E402
 PRIORS = {"L": 1.9, "l0": 1.9, "ramp": 1.0, "dx": 0.5, "load": 0.0, "k_fr": 0.0}
 EXPLICIT_PRIORS = {"l0": 0.0, "tol": 0.0}  # explicit: a correction of explicit_cost_shape's l0^-3
 PRIOR_WEIGHT = 0.1  # the prior's pseudo-row counts a hundredth of a run in the sum of squares
+MIN_RUNS_FOR_EXPONENTS = 10  # a class with fewer runs fits its coefficient only (exponents at their priors)
 MIN_WALL_S = 0.5  # shorter runs time mostly the process's first call into numba's cache, not the solver
 
 
@@ -120,7 +122,11 @@ def fit_class(items: list[Run]) -> dict:
     for i, k in enumerate(names):
         prior_rows[i, 1 + i] = PRIOR_WEIGHT
         prior_y[i] = PRIOR_WEIGHT * priors[k]
-    coef = np.linalg.lstsq(np.vstack([A, prior_rows]), np.concatenate([y, prior_y]), rcond=None)[0]
+    if len(free) < MIN_RUNS_FOR_EXPONENTS:  # too few to tell exponents apart: only the coefficient
+        prior = np.array([priors[k] for k in names])
+        coef = np.concatenate([[float(np.mean(y - A[:, 1:] @ prior))], prior])
+    else:
+        coef = np.linalg.lstsq(np.vstack([A, prior_rows]), np.concatenate([y, prior_y]), rcond=None)[0]
     out = {"log_coef": float(coef[0])} | {f"{k}_exponent": float(c) for k, c in zip(names, coef[1:])}
     per_step = [r.wall / (r.steps * r.scene.N) for r in items if r.steps > 0]
     if any(r.scene.max_steps for r in items) and per_step:
@@ -164,7 +170,8 @@ def main(argv=None) -> int:
         by_class[limits.cost_class(item.scene)].append(item)
     model = {"source": {"build_commit": git_commit(results), "date": datetime.date.today().isoformat(),
                         "runs": len(data), "note": a.note,
-                        "priors": PRIORS, "explicit_priors": EXPLICIT_PRIORS, "prior_weight": PRIOR_WEIGHT},
+                        "priors": PRIORS, "explicit_priors": EXPLICIT_PRIORS, "prior_weight": PRIOR_WEIGHT,
+                        "min_runs_for_exponents": MIN_RUNS_FOR_EXPONENTS, "min_wall_s": MIN_WALL_S},
              "classes": {k: fit_class(v) for k, v in sorted(by_class.items())}}
     Path(a.out).write_text(json.dumps(model, indent=1) + "\n")
     for k, c in model["classes"].items():
