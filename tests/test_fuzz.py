@@ -390,8 +390,10 @@ def test_costly_scenes_are_named_at_start_up():
     costly = pipeline.costly_scenes(config, limits.DEFAULT_BUDGET_S)
     # each member of the scene's seed ensemble (seeds: 3 in the CI config) is named
     assert [(f, s) for f, s, _ in costly] == [("fig6_FonL", f"L10-s{i}") for i in range(3)]
-    # explicit, L/R = 320, l0 = 0.5 R: 7 min at L/R = 80, growing as L^2.5 -> about 3.7 h
-    assert 2 * 3600 < costly[0][2] < 6 * 3600
+    # explicit, L/R = 320, l0 = 0.5 R: growing as L^2.5 from the explicit runs of a publication build
+    # (L/R = 20-40; limits.cost_model): the hand model's 7 min at L/R = 80 gave 3.7 h, the fitted one,
+    # whose runs took ~2.4x the hand model's time, about 9 h; either is far above the budget
+    assert 2 * 3600 < costly[0][2] < 12 * 3600
 
 
 @pytest.mark.parametrize("args, key", [(["--R", "0"], "R"), (["--R", "nan"], "R"), (["--R", "-1"], "R"),

@@ -170,8 +170,9 @@ def test_the_cost_fit_recovers_constructed_exponents_and_keeps_the_prior_of_one_
 def test_the_solver_estimate_reads_the_fitted_class_and_falls_back_to_the_prior(monkeypatch):
     """A class in the model is predicted from its coefficients (here exp(0) (L/640 R)^2, so a rod of
     L = 320 R costs 1/4 s), capped by a step budget at max_steps x N x the class's time per step
-    and link (1000 steps of 640 links at 1 us: 0.64 s, above the model; 250 steps: 0.16 s), one it
-    lacks from the prior model; the committed model names its classes as cost_class does and
+    and link (1000 steps of 640 links at 1 us: 0.64 s, above the model; 250 steps: 0.16 s), and
+    beyond its longest fitted rod growing at least as the hand model's L^1.9 (the command line's
+    budget must not trust an extrapolation of a shallower fit); a class it lacks from the prior model; the committed model names its classes as cost_class does and
     each fitted its build's runs within a factor 3 (rms of ln)."""
     import json
     import math
@@ -187,6 +188,11 @@ def test_the_solver_estimate_reads_the_fitted_class_and_falls_back_to_the_prior(
     assert limits.estimated_solver_time(budget) == pytest.approx(0.25)
     assert limits.estimated_solver_time(Scene(L=320.0, load=0.25, k_fr=0.8, max_steps=250, name="d")) == \
         pytest.approx(0.16)
+    # beyond the longest fitted rod the length's exponent is at least the hand model's 1.9
+    model["classes"]["implicit/straight/friction"] |= {"L_exponent": 1.0, "L_max": 640.0}
+    at = {L: limits.estimated_solver_time(Scene(L=L, load=0.25, k_fr=0.8, name="e")) for L in (320.0, 640.0, 1280.0)}
+    assert at[640.0] / at[320.0] == pytest.approx(2.0)
+    assert at[1280.0] / at[640.0] == pytest.approx(2.0 ** limits.COST_PRIOR_L_EXPONENT)
     helix = Scene(L=320.0, load=0.25, k_fr=0.8, protocol="helix", name="b")
     assert limits.estimated_solver_time(helix) == pytest.approx(limits._prior_solver_time(helix))
     committed = json.loads(limits.COST_MODEL_FILE.read_text())
@@ -194,7 +200,8 @@ def test_the_solver_estimate_reads_the_fitted_class_and_falls_back_to_the_prior(
     for key, c in committed["classes"].items():
         solver, protocol, friction = key.split("/")
         assert solver in solvers and protocol in protocols and friction in ("friction", "frictionless")
-        assert c["rms_log_error"] < math.log(3.0)
+        if c["runs"] >= 10:  # tools/fit_cost_model.MIN_RUNS_FOR_EXPONENTS: a fitted class, not a coefficient
+            assert c["rms_log_error"] < math.log(3.0), key
 
 
 def limits_protocols():

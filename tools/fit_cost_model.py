@@ -128,17 +128,13 @@ def fit_class(items: list[Run]) -> dict:
     else:
         coef = np.linalg.lstsq(np.vstack([A, prior_rows]), np.concatenate([y, prior_y]), rcond=None)[0]
     out = {"log_coef": float(coef[0])} | {f"{k}_exponent": float(c) for k, c in zip(names, coef[1:])}
+    if not explicit:  # the longest rod fitted: beyond it limits.estimated_solver_time extrapolates no cheaper
+        out["L_max"] = float(max(r.scene.L / r.scene.R for r in free))  # than the hand model's N^1.9
     per_step = [r.wall / (r.steps * r.scene.N) for r in items if r.steps > 0]
     if any(r.scene.max_steps for r in items) and per_step:
         out["step_s_per_link"] = float(np.median(per_step))
     # the scatter of every run (capped ones included) about what limits.estimated_solver_time predicts
-    pred = []
-    for r in items:
-        off, x = features(r.scene)
-        t = math.exp(out["log_coef"] + off + sum(out.get(f"{k}_exponent", 0.0) * v for k, v in x.items()))
-        if r.scene.max_steps and out.get("step_s_per_link"):
-            t = min(t, r.scene.max_steps * r.scene.N * out["step_s_per_link"])
-        pred.append(t)
+    pred = [limits.class_solver_time(out, r.scene) for r in items]
     resid = np.log([r.wall for r in items]) - np.log(pred)
     ratio = np.exp(resid)
     return out | {"runs": len(items), "step_capped_runs": len(items) - len(free) if free is not items else 0,

@@ -48,7 +48,8 @@ def reestimator(config_path: str):
     """est(rule, wildcards, logged est_s): a job's estimate from the current cost model, as the
     rules' est_s gives it (workflow/rules/common.smk: a scene's job its solver estimate and the
     start-up, 0 for one moved into place from its batch; a batch its members' sum and one start-up,
-    the members named by the batch, first-to-last in the figure's order; a load path ten runs;
+    the members named by the batch, first-to-last in the figure's order; a load path one start-up
+    and ten runs' solver estimates;
     rule views its simulations, workflow/rules/views.smk)."""
     from confined_rod import limits, pipeline
     from confined_rod.pipeline import progress
@@ -67,7 +68,7 @@ def reestimator(config_path: str):
             members = names[names.index(first): names.index(last or first) + 1]
             return limits.JOB_STARTUP_S + sum(pipeline.solver_estimate(config, wc["figure"], m) for m in members)
         if rule == "load_path" and "scene" in wc:
-            return 10 * one(wc["figure"], wc["scene"])
+            return limits.JOB_STARTUP_S + 10 * pipeline.solver_estimate(config, wc["figure"], wc["scene"])
         if rule == "views":
             return progress.views_estimate(len(pipeline.view_sims(config)))
         return logged

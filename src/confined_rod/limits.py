@@ -277,6 +277,10 @@ def cost_model() -> dict:
         return {}
 
 
+#: the hand model's growth with the rod's length (N^1.9), the least a fitted model extrapolates with
+COST_PRIOR_L_EXPONENT = 1.9
+
+
 def _prior_solver_time(scene) -> float:
     """The model before a fit (and for a class no fitted build has run): implicit at the
     publication numerics, L/R = 640 at l0 = 0.5 R (1280 links), k_fr = 0.8: 6.3 s, growing as
@@ -311,16 +315,26 @@ def cost_regressors(scene) -> tuple[float, dict[str, float]]:
 
 def estimated_solver_time(scene) -> float:
     """Rough time of a run's solver on one core of the reference machine (seconds): the cost
-    model fitted to a publication build's runs (COST_MODEL_FILE, tools/fit_cost_model.py), per
-    class (cost_class), exp(b + offset + sum of exponent x regressor) over cost_regressors, and
-    for a run with a step budget at most max_steps x N x the class's measured time per step and
-    link (explicit runs: a capped stress probe); a class the fit has not seen uses
+    model fitted to a publication build's runs (COST_MODEL_FILE, tools/fit_cost_model.py) for
+    the scene's class (cost_class, class_solver_time); a class the fit has not seen uses
     _prior_solver_time."""
     c = cost_model().get("classes", {}).get(cost_class(scene))
-    if c is None:
-        return _prior_solver_time(scene)
+    return _prior_solver_time(scene) if c is None else class_solver_time(c, scene)
+
+
+def class_solver_time(c: dict, scene) -> float:
+    """A fitted class's prediction for a scene: exp(b + offset + sum of exponent x regressor) over
+    cost_regressors; for a run with a step budget at most max_steps x N x the class's measured
+    time per step and link (explicit runs: a capped stress probe); beyond the class's longest
+    fitted rod (L_max) with a length exponent of at least COST_PRIOR_L_EXPONENT."""
     offset, x = cost_regressors(scene)
-    t = math.exp(c["log_coef"] + offset + sum(c.get(f"{k}_exponent", 0.0) * v for k, v in x.items()))
+    ln_t = c["log_coef"] + offset + sum(c.get(f"{k}_exponent", 0.0) * v for k, v in x.items())
+    L_max = c.get("L_max")
+    if "L" in x and L_max and scene.L / scene.R > L_max:
+        # the exponent itself grows with L (1.8 over L/R 80-1280, 2.2 over 320-1280): an
+        # extrapolation never cheaper than the hand model's, which the command line's budget relies on
+        ln_t += max(0.0, COST_PRIOR_L_EXPONENT - c.get("L_exponent", 0.0)) * math.log(scene.L / scene.R / L_max)
+    t = math.exp(ln_t)
     if scene.max_steps and c.get("step_s_per_link"):  # a step budget caps the run's steps
         t = min(t, scene.max_steps * scene.N * c["step_s_per_link"])
     return t

@@ -172,8 +172,9 @@ def member_estimate(kind):
 
 
 def path_priority(wildcards):
-    """A load path relaxes the rod at tens of loads: ten times one run's estimate."""
-    return 10 * job_priority(wildcards)
+    """A load path relaxes the rod at tens of loads in one process: one start-up and ten times one
+    run's solver estimate (ten start-ups had made the CI grid's 17 paths 340 s for 63 measured)."""
+    return int(limits.JOB_STARTUP_S + 10 * pipeline.solver_estimate(config, wildcards.figure, wildcards.scene))
 
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------
