@@ -172,8 +172,9 @@ def test_the_solver_estimate_reads_the_fitted_class_and_falls_back_to_the_prior(
     L = 320 R costs 1/4 s), capped by a step budget at max_steps x N x the class's time per step
     and link (1000 steps of 640 links at 1 us: 0.64 s, above the model; 250 steps: 0.16 s), and
     beyond its longest fitted rod growing at least as the hand model's L^1.9 (the command line's
-    budget must not trust an extrapolation of a shallower fit); a class it lacks from the prior model; the committed model names its classes as cost_class does and
-    each fitted its build's runs within a factor 3 (rms of ln)."""
+    budget must not trust an extrapolation of a shallower fit); a class it lacks from the prior
+    model; the committed model names its classes as cost_class does and each class of ten runs
+    or more fitted its build's runs within a factor 3 (rms of ln)."""
     import json
     import math
 

@@ -331,8 +331,8 @@ def class_solver_time(c: dict, scene) -> float:
     ln_t = c["log_coef"] + offset + sum(c.get(f"{k}_exponent", 0.0) * v for k, v in x.items())
     L_max = c.get("L_max")
     if "L" in x and L_max and scene.L / scene.R > L_max:
-        # the exponent itself grows with L (1.8 over L/R 80-1280, 2.2 over 320-1280): an
-        # extrapolation never cheaper than the hand model's, which the command line's budget relies on
+        # the exponent itself grows with L (the long rods' slip fronts): an extrapolation never
+        # cheaper than the hand model's, on which the command line's budget relies
         ln_t += max(0.0, COST_PRIOR_L_EXPONENT - c.get("L_exponent", 0.0)) * math.log(scene.L / scene.R / L_max)
     t = math.exp(ln_t)
     if scene.max_steps and c.get("step_s_per_link"):  # a step budget caps the run's steps
