@@ -98,35 +98,25 @@ def runs(results: Path) -> list[Run]:
     return out
 
 
-def features(sc: Scene) -> tuple[float, dict[str, float]]:
-    """(offset, {exponent name: regressor}) of a run in its class's model (limits.cost_regressors)."""
-    return limits.cost_regressors(sc)
-
-
 def fit_class(items: list[Run]) -> dict:
     """The class's coefficients (module docstring), from its runs that did not end on a step
     budget; with a step budget in any run, also the median time per step and link."""
     free = [r for r in items if not r.capped] or items
     explicit = free[0].scene.solver == "explicit"
     priors = EXPLICIT_PRIORS if explicit else PRIORS
-    names = sorted({k for r in free for k in features(r.scene)[1]})
+    names = sorted({k for r in free for k in limits.cost_regressors(r.scene)[1]})
     rows, y = [], []
     for r in free:
-        off, x = features(r.scene)
+        off, x = limits.cost_regressors(r.scene)
         rows.append([1.0] + [x.get(k, 0.0) for k in names])
         y.append(math.log(r.wall) - off)
     A, y = np.array(rows), np.array(y)
-    # the prior: one pseudo-row per exponent, PRIOR_WEIGHT x that exponent = its prior
-    prior_rows = np.zeros((len(names), 1 + len(names)))
-    prior_y = np.zeros(len(names))
-    for i, k in enumerate(names):
-        prior_rows[i, 1 + i] = PRIOR_WEIGHT
-        prior_y[i] = PRIOR_WEIGHT * priors[k]
+    prior = np.array([priors[k] for k in names])
     if len(free) < MIN_RUNS_FOR_EXPONENTS:  # too few to tell exponents apart: only the coefficient
-        prior = np.array([priors[k] for k in names])
         coef = np.concatenate([[float(np.mean(y - A[:, 1:] @ prior))], prior])
-    else:
-        coef = np.linalg.lstsq(np.vstack([A, prior_rows]), np.concatenate([y, prior_y]), rcond=None)[0]
+    else:  # the prior: one pseudo-row per exponent, PRIOR_WEIGHT x that exponent = its prior
+        prior_rows = np.hstack([np.zeros((len(names), 1)), PRIOR_WEIGHT * np.eye(len(names))])
+        coef = np.linalg.lstsq(np.vstack([A, prior_rows]), np.concatenate([y, PRIOR_WEIGHT * prior]), rcond=None)[0]
     out = {"log_coef": float(coef[0])} | {f"{k}_exponent": float(c) for k, c in zip(names, coef[1:])}
     if not explicit:  # the longest rod fitted: beyond it limits.estimated_solver_time extrapolates no cheaper
         out["L_max"] = float(max(r.scene.L / r.scene.R for r in free))  # than the hand model's N^1.9

@@ -51,24 +51,21 @@ def reestimator(config_path: str):
     the members named by the batch, first-to-last in the figure's order; a load path one start-up
     and ten runs' solver estimates;
     rule views its simulations, workflow/rules/views.smk)."""
-    from confined_rod import limits, pipeline
+    from confined_rod import pipeline
     from confined_rod.pipeline import progress
 
     config = pipeline.check(pipeline.read_config(config_path))  # expanded, as the rules see it
 
-    def one(figure: str, scene: str) -> float:
-        return limits.JOB_STARTUP_S + pipeline.solver_estimate(config, figure, scene)
-
     def est(rule: str, wc: dict[str, str], logged: float | None) -> float | None:
         if rule in ("simulate", "probe") and "scene" in wc:
-            return 0.0 if logged == 0 else one(wc["figure"], wc["scene"])
+            return 0.0 if logged == 0 else pipeline.job_estimate_s(config, wc["figure"], wc["scene"])
         if rule == "batch" and "batch" in wc:
             names = pipeline.scenes(config, wc["figure"])
             first, _, last = wc["batch"].partition("-to-")
             members = names[names.index(first): names.index(last or first) + 1]
-            return limits.JOB_STARTUP_S + sum(pipeline.solver_estimate(config, wc["figure"], m) for m in members)
+            return pipeline.batch_estimate_s(config, wc["figure"], members)
         if rule == "load_path" and "scene" in wc:
-            return limits.JOB_STARTUP_S + 10 * pipeline.solver_estimate(config, wc["figure"], wc["scene"])
+            return pipeline.job_estimate_s(config, wc["figure"], wc["scene"], runs=10)
         if rule == "views":
             return progress.views_estimate(len(pipeline.view_sims(config)))
         return logged

@@ -113,7 +113,7 @@ def scene_json(wildcards):
 def batch_priority(wildcards):
     """A batch is scheduled as the sum of its members' estimated solver times and one start-up."""
     members = pipeline.batches(config, wildcards.figure).get(wildcards.batch, [])
-    return int(limits.JOB_STARTUP_S + sum(pipeline.solver_estimate(config, wildcards.figure, s) for s in members))
+    return int(pipeline.batch_estimate_s(config, wildcards.figure, members))
 
 
 def batch_runtime(wildcards):
@@ -156,7 +156,7 @@ def job_priority(wildcards):
     """Longest jobs first, so that the last jobs of a build finish together: the
     estimated wall time in seconds (limits.estimated_solver_time and the start-up; the
     start-up alone for a probe of deliberately invalid input)."""
-    return int(limits.JOB_STARTUP_S + pipeline.solver_estimate(config, wildcards.figure, wildcards.scene))
+    return int(pipeline.job_estimate_s(config, wildcards.figure, wildcards.scene))
 
 
 def member_estimate(kind):
@@ -174,7 +174,7 @@ def member_estimate(kind):
 def path_priority(wildcards):
     """A load path relaxes the rod at tens of loads in one process: one start-up and ten times one
     run's solver estimate (ten start-ups had made the CI grid's 17 paths 340 s for 63 measured)."""
-    return int(limits.JOB_STARTUP_S + 10 * pipeline.solver_estimate(config, wildcards.figure, wildcards.scene))
+    return int(pipeline.job_estimate_s(config, wildcards.figure, wildcards.scene, runs=10))
 
 
 # -- the manuscript (rules in paper.smk) ----------------------------------------------------------

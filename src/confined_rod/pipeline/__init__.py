@@ -16,11 +16,13 @@ the paths of results/ are :mod:`confined_rod.layout`'s alone.
 from ..errors import ConfigError
 from .batches import (
                       BATCH_S,
+                      batch_estimate_s,
                       batch_job,
                       batch_name,
                       batch_of,
                       batch_outputs,
                       batches,
+                      job_estimate_s,
                       member_batch,
                       member_cache,
                       plan_batches,
@@ -70,7 +72,9 @@ from .targets import (
 )
 
 __all__ = [
-    "ConfigError", "BATCH_S", "batch_job", "batch_name", "batch_of", "batch_outputs", "batches", "member_batch",
+    "ConfigError", "BATCH_S", "batch_job", "batch_name", "batch_estimate_s",
+    "batch_of", "batch_outputs", "batches", "job_estimate_s",
+    "member_batch",
     "member_cache", "plan_batches", "run_kind", "solver_estimate", "PACKAGE", "code_closure", "ROOT", "SCHEMA",
     "Expanded", "build_scene", "built_scenes", "canonical_scene", "caption", "check", "check_paper", "check_schema",
     "context", "convergence_figures", "costly_scenes", "expand", "figures", "kinds", "publication_value",

@@ -33,6 +33,22 @@ def solver_estimate(config: dict[str, Any], figure: str, scene: str) -> float:
         return 0.0
 
 
+def job_estimate_s(config: dict[str, Any], figure: str, scene: str, runs: int = 1) -> float:
+    """A job's estimated wall time (s) for a scene run alone (runs = 1) or a load path (runs = 10:
+    tens of loads in one process): one start-up (limits.JOB_STARTUP_S) and ``runs`` times the
+    scene's solver estimate. The rules' priorities and est_s, and tools/progress_error.py's replay."""
+    from ..limits import JOB_STARTUP_S
+
+    return JOB_STARTUP_S + runs * solver_estimate(config, figure, scene)
+
+
+def batch_estimate_s(config: dict[str, Any], figure: str, members: list[str]) -> float:
+    """A batch's estimated wall time (s): one start-up and its members' solver estimates."""
+    from ..limits import JOB_STARTUP_S
+
+    return JOB_STARTUP_S + sum(solver_estimate(config, figure, m) for m in members)
+
+
 def plan_batches(names: list[str], cost: list[float], budget: float = BATCH_S) -> list[list[str]]:
     """Consecutive scenes (declaration order: a seed ensemble's members are neighbours) packed
     into batches of at most ``budget`` estimated seconds; a scene above it is a batch of its own."""
