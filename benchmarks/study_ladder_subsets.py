@@ -8,8 +8,9 @@ build's config and every m of ``--seeds`` this rebuilds the ladder's dataset fro
 scene files (analysis.postprocess.build, the rule's code, with the rule's context) and records:
 
 * the verdict word (pass, fail, inconclusive) and the status line;
-* the largest resolution at 95 % power over the compared quantities and rungs, relative to its
-  tolerance (a passing ladder needs it <= 1; its margin says how many seeds the pass rests on);
+* the largest resolution at 95 % power over the comparisons that decide (quantities and rungs),
+  relative to its tolerance (a passing ladder needs it <= 1; its margin says how many seeds the
+  pass rests on);
 * the solver time of the kept runs (the wall_time the runs store), against the full ladder's.
 
 Reads results/ under ``--build`` (a checkout whose ``snakemake`` has finished) with its
@@ -64,10 +65,12 @@ def ladder_subsets(figure: str, config: dict, seed_counts: list[int]) -> dict:
             continue
         status = str(ds.attrs["status"])
         res = None
-        if "cmp_resolution" in ds and "cmp_compared_tolerance" in ds:
-            r = ds["cmp_resolution"].values / np.where(ds["cmp_compared_tolerance"].values > 0,
-                                                        ds["cmp_compared_tolerance"].values, np.inf)
-            res = float(np.nanmax(r)) if np.isfinite(r).any() else None
+        if "cmp_resolution" in ds and "cmp_verdict_code" in ds:
+            # the comparisons that decide (codes 1-3: within, beyond, undecided; 4 only describes)
+            deciding = np.isin(ds["cmp_verdict_code"].values, (1, 2, 3))
+            tol = ds["cmp_compared_tolerance"].values
+            r = ds["cmp_resolution"].values[deciding] / tol[deciding]
+            res = float(np.max(r)) if r.size else None
         rows.append({"seeds": m, "runs": len(kept), "verdict": verdict_word(status), "status": status,
                      "max_resolution_over_tolerance": res,
                      "solver_s": round(sum(wall[n] for n in kept), 2)})
