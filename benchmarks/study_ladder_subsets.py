@@ -39,8 +39,6 @@ RESULTS = Path(__file__).resolve().parent / "results"
 def ladder_subsets(figure: str, config: dict, seed_counts: list[int]) -> dict:
     """The ladder ``figure`` of the build in the current directory at each seed count (module
     docstring); ``config`` expanded (pipeline.expand)."""
-    import xarray as xr
-
     from confined_rod import pipeline
     from confined_rod.analysis import postprocess, run_checks
     from confined_rod.analysis.figures.convergence import verdict_word
@@ -52,15 +50,14 @@ def ladder_subsets(figure: str, config: dict, seed_counts: list[int]) -> dict:
     read = {name: run_checks.load(path) for name, path in pipeline.read_figures(config, figure).items()}
     context = {**pipeline.context(config, figure), "datasets": read}
     seed_of = {name: int(ds.attrs.get("seed", 0)) for name, ds in sims.items()}
-    wall = {name: float(ds["wall_time"]) if "wall_time" in ds else float(ds.attrs.get("wall_time", 0.0))
-            for name, ds in sims.items()}
+    wall = {name: float(ds["wall_time"]) for name, ds in sims.items()}
     n_max = max(seed_of.values()) + 1
     rows = []
     for m in sorted({*(c for c in seed_counts if c < n_max), n_max}):
         kept = {n: d for n, d in sims.items() if seed_of[n] < m}
         try:
             ds = postprocess.build(figure, fig_cfg, kept, context)
-        except Exception as exc:  # a subset too small for the ladder's tests
+        except ValueError as exc:  # a subset too small for the ladder's tests
             rows.append({"seeds": m, "verdict": "error", "status": f"{type(exc).__name__}: {exc}"})
             continue
         status = str(ds.attrs["status"])
@@ -74,8 +71,6 @@ def ladder_subsets(figure: str, config: dict, seed_counts: list[int]) -> dict:
         rows.append({"seeds": m, "runs": len(kept), "verdict": verdict_word(status), "status": status,
                      "max_resolution_over_tolerance": res,
                      "solver_s": round(sum(wall[n] for n in kept), 2)})
-        if isinstance(ds, xr.Dataset):
-            ds.close()
     full = rows[-1]
     for row in rows:
         row["solver_share"] = round(row.get("solver_s", 0.0) / full["solver_s"], 3) if full.get("solver_s") else None
