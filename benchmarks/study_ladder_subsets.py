@@ -32,7 +32,6 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
 RESULTS = Path(__file__).resolve().parent / "results"
 
 
@@ -93,6 +92,7 @@ def main() -> None:
     ap.add_argument("-o", "--out", help="default benchmarks/results/ladder_subsets_<commit>.json")
     args = ap.parse_args()
     build = Path(args.build).resolve()
+    out_path = Path(args.out).resolve() if args.out else None  # relative to where it is called from
     os.chdir(build)  # layout's paths are relative to the checkout
     from confined_rod import pipeline
 
@@ -111,9 +111,7 @@ def main() -> None:
               + ", ".join(f"{x['seeds']}:{x['verdict'][:4]}"
                           + (f"/{x['max_resolution_over_tolerance']:.2f}" if x.get("max_resolution_over_tolerance")
                              else "") + f"/{x.get('solver_s', 0):.0f}s" for x in r["subsets"]), flush=True)
-    path = Path(args.out) if args.out else RESULTS / f"ladder_subsets_{commit}.json"
-    if not path.is_absolute():
-        path = ROOT / path
+    path = out_path or RESULTS / f"ladder_subsets_{commit}.json"
     path.write_text(json.dumps(out, indent=1) + "\n")
     print(f"wrote {path}")
 
