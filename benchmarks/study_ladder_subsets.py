@@ -43,9 +43,11 @@ def ladder_subsets(figure: str, config: dict, seed_counts: list[int]) -> dict:
     from confined_rod.analysis.figures.convergence import verdict_word
 
     fig_cfg = config["figures"][figure]
-    # the rule's own inputs: a rung may share another figure's runs (pipeline.figure_sims)
-    sims = {name: run_checks.load(path)
-            for name, path in zip(pipeline.scenes(config, figure), pipeline.figure_sims(config, figure))}
+    # the rule's own inputs (a rung may share another figure's runs), each checked against the scene
+    # the config asks for, as rule postprocess checks them (a stale file is refused in one line)
+    sims = {name: run_checks.load(path, wanted)
+            for name, path, wanted in zip(pipeline.scenes(config, figure), pipeline.figure_sims(config, figure),
+                                          pipeline.figure_wanted(config, figure))}
     read = {name: run_checks.load(path) for name, path in pipeline.read_figures(config, figure).items()}
     context = {**pipeline.context(config, figure), "datasets": read}
     seed_of = {name: int(ds.attrs.get("seed", 0)) for name, ds in sims.items()}
