@@ -63,6 +63,20 @@ def test_helix_relations_invert():
     assert np.allclose(torque.helix_torque(RHO, w, F, EI), tau, rtol=0, atol=1e-14)
 
 
+def test_the_wall_force_at_a_given_force_is_the_torque_eliminated_and_peaks_at_the_torque_free_pitch():
+    """K(w, F) = rho w^2 (F/c - EI w^2) is helix_wall_force at the torque helix_force needs for F;
+    over rho F^2/(4EI) it is x^2 (2 - x^2) to lowest order in rho w (x = w/w0), 1 at x = 1."""
+    w, tau = -0.25, np.linspace(-0.01, 0.01, 7)
+    F = torque.helix_force(RHO, w, tau, EI)
+    assert np.allclose(torque.helix_wall_force_at_force(RHO, w, F, EI), torque.helix_wall_force(RHO, w, tau, EI),
+                       rtol=1e-12, atol=0)
+    F, rho = 1e-4, 1.0                                  # a flat helix: (rho w)^2 = x^2 F/(2EI) <= 8.5e-5
+    x = np.array([0.2, 0.5, 1.0, 1.3])
+    K = torque.helix_wall_force_at_force(rho, x * np.sqrt(F / (2 * EI)), F, EI) / (rho * F**2 / (4 * EI))
+    # the first term's 1/c - 1 = (rho w)^2/2 relative to x^2 (2 - x^2) is at most 2x^2/(2 - x^2) x 4.2e-5 = 2.7e-4
+    assert np.allclose(K, x**2 * (2 - x**2), rtol=5e-4) and not np.allclose(K, 2 * x**2 - x**4 / 2, rtol=5e-4)
+
+
 def test_budget_reads_the_known_torque_from_the_loaded_end():
     ds = constructed_helix()
     b = torque.budget(ds)
@@ -87,6 +101,7 @@ def test_bulk_summary_of_the_constructed_helix():
     assert out["torque_helix_ratio"] == pytest.approx(out["torque_friction_ratio"], rel=1e-4)
     assert out["torque_budget_residual"] < 1e-6
     assert out["K_ratio"] == pytest.approx(out["K_ratio_from_torque"], rel=1e-3)
+    assert out["K_ratio"] == pytest.approx(out["K_ratio_from_pitch"], rel=1e-3)
     assert out["pitch_w0_ratio"] == pytest.approx(np.median(abs(W) / np.sqrt(F / 2)), rel=1e-9)
     assert torque.bulk_summary(ds, np.zeros(N, dtype=bool))["K_ratio"] == 0.0
 

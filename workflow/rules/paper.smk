@@ -38,6 +38,7 @@ rule paper_sources:
     floats with captions and provenance, and the text the PDF check expects."""
     input:
         claims=layout.CLAIMS_NC,
+        claims_spec=claims_file,
         datasets=ALL_TARGETS["datasets"],
         budget=ALL_TARGETS["budget"],
         studies=sorted(glob.glob(layout.STUDIES_GLOB)),

@@ -6,6 +6,7 @@ import json
 
 import xarray as xr
 
+from confined_rod import claims
 from confined_rod.claims import manuscript as paper
 from confined_rod.io import logged, write_text
 
@@ -18,6 +19,7 @@ with logged(sm.log[0]):
     paper.claim_macros(verdicts, macros)
     paper.finding_macros(verdicts, json.loads(claims_ds.attrs.get("finding_titles", "{}")), macros)
     paper.dataset_macros(datasets, macros)
+    paper.printed_fits_macros(claims.load(sm.input.claims_spec), datasets, macros)
     paper.budget_macros(xr.load_dataset(sm.input.budget[0]) if sm.input.budget else None, macros)
     paper.study_macros(sm.input.studies, macros)
     macros.add("val", "config", sm.params.config_name)

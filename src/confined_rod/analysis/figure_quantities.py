@@ -315,6 +315,9 @@ FIGURE_QUANTITIES = [
         ("K_ratio", r"K/K_{model}", "bulk wall force per length over the corrected simple model's R F_z^2/(4EI)"),
         ("K_ratio_from_torque", r"K_\tau/K_{model}", "bulk wall force per length predicted by the local pitch and "
          "the friction's torque, (EI rho^2 w^4 - w tau)/rho, over R F_z^2/(4EI)"),
+        ("K_ratio_from_pitch", r"K_w/K_{model}", "bulk wall force per length predicted by the local pitch and "
+         "force of a constant-pitch helix, rho w^2 (|F_z|/c - EI w^2), over R F_z^2/(4EI) (to lowest order "
+         "x^2 (2 - x^2), x = |w|/w0)"),
         ("lower_torque_ratio", r"\tau(s_l)\,\mathrm{sgn}\,w/\tau_0", "axial torque the lower region receives "
          "from the bulk, at its start, signed along the bulk's handedness, over EI R^2 w0^3"),
         ("lower_azimuthal_share", r"\langle|f_\varphi|/|f|\rangle_{lower}", "mean azimuthal share of the friction "

@@ -83,6 +83,16 @@ def helix_wall_force(rho, w, tau, EI: float):
     return (EI * rho**2 * w**4 - w * tau) / rho
 
 
+def helix_wall_force_at_force(rho, w, F, EI: float):
+    """K = rho w^2 (F/c - EI w^2), c = sqrt(1 - rho^2 w^2): the wall force per length of a helix
+    of pitch rate w carrying the axial force F, whatever its torque (helix_force solved for tau and
+    put into helix_wall_force; derivations.helix_with_torque). To lowest order in rho w, with
+    x = w/w0, w0^2 = F/(2EI): K/(rho F^2/(4EI)) = x^2 (2 - x^2), largest (1) at the torque-free
+    pitch x = 1 (derivations.wall_force_pitch_relation)."""
+    rho, w, F = (np.asarray(v, dtype=float) for v in (rho, w, F))
+    return rho * w**2 * (F / np.sqrt(1.0 - rho**2 * w**2) - EI * w**2)
+
+
 def torque_scale(F, R: float, EI: float):
     """tau_0 = EI R^2 w0^3, w0 = sqrt(F/(2EI)): the bending torque of a torque-free helix."""
     return EI * R**2 * (np.asarray(F, dtype=float) / (2.0 * EI)) ** 1.5
@@ -90,7 +100,7 @@ def torque_scale(F, R: float, EI: float):
 
 #: the scalars of bulk_summary (quantities.py names)
 SUMMARY_KEYS = ("torque_friction_ratio", "torque_helix_ratio", "torque_budget_residual", "pitch_w0_ratio", "K_ratio",
-                "K_ratio_from_torque")
+                "K_ratio_from_torque", "K_ratio_from_pitch")
 
 
 @dataclass(frozen=True)
@@ -169,4 +179,6 @@ def bulk_summary(sim: xr.Dataset, bulk: np.ndarray, b: Budget | None = None) -> 
                                                       / (b.tau0[m] + np.abs(b.tau_friction[m])))),
             "pitch_w0_ratio": float(np.median(np.abs(w) / np.sqrt(F / (2.0 * EI)))),
             "K_ratio": float(np.mean(K_meas) / np.mean(K_model)),
-            "K_ratio_from_torque": float(np.mean(K_pred) / np.mean(R * F**2 / (4.0 * EI)))}
+            "K_ratio_from_torque": float(np.mean(K_pred) / np.mean(R * F**2 / (4.0 * EI))),
+            "K_ratio_from_pitch": float(np.mean(helix_wall_force_at_force(rho, w, F, EI))
+                                        / np.mean(R * F**2 / (4.0 * EI)))}

@@ -177,6 +177,33 @@ def helix_with_torque() -> Derivation:
                       "points")
 
 
+def wall_force_pitch_relation() -> Derivation:
+    """The wall force at a given axial force as a function of the pitch (our finding): K = R w^2
+    (F/c - EI w^2) (helix_with_torque: the torque eliminated), to lowest order in R w (c = 1) with
+    w = x w0, w0^2 = F/(2EI): K/(R F^2/(4EI)) = x^2 (2 - x^2). Stationary only at the torque-free
+    pitch x = 1, where it is largest (1, the corrected K); 0 at x = sqrt 2 and for x -> 0. Equal
+    to confined_rod.analysis.torque.helix_wall_force_at_force (exact in c) at two points."""
+    from ..analysis import torque
+
+    F, x, wc = sp.symbols("F x w", positive=True)
+    w0 = sp.sqrt(F / (2 * EI))
+    K_exact = R * wc**2 * (F / sp.sqrt(1 - R**2 * wc**2) - EI * wc**2)
+    ratio = sp.simplify(K_exact.subs(sp.sqrt(1 - R**2 * wc**2), 1).subs(wc, x * w0) / (R * F**2 / (4 * EI)))
+    ok = _zero(ratio - x**2 * (2 - x**2))
+    stationary = [r for r in sp.solve(sp.diff(ratio, x), x) if r.is_positive]
+    ok = ok and stationary == [1] and _zero(ratio.subs(x, 1) - 1) and sp.diff(ratio, x, 2).subs(x, 1) < 0
+    ok = ok and _zero(ratio.subs(x, sp.sqrt(2)))
+    for vals in ({R: 0.9, EI: 1.0, wc: 0.3, F: 0.2}, {R: 1.0, EI: 2.0, wc: 0.1, F: 0.05}):
+        num = {str(k): float(v) for k, v in vals.items()}
+        ok = ok and abs(float(K_exact.subs(vals)) - float(torque.helix_wall_force_at_force(
+            num["R"], num["w"], num["F"], num["EI"]))) < 1e-12
+    return Derivation("K/(R F^2/(4EI)) = x^2 (2 - x^2), x = w/w0, w0^2 = F/(2EI)",
+                      "(not in the paper: its helix is torque-free, x = 1)", ok,
+                      "K = R w^2 (F/c - EI w^2) at c = 1, w = x w0; stationary only at x = 1 (a maximum, 1), zero at "
+                      "x = sqrt 2; the exact form equal to confined_rod.analysis.torque.helix_wall_force_at_force at two "
+                      "points")
+
+
 def force_decay(paper_K: bool = False) -> sp.Expr:
     """Solve d|F|/dl = -k_fr K(|F|), |F|(0) = F0, with the derived (or printed) K."""
     F = sp.Function("F")
@@ -320,6 +347,7 @@ DERIVATIONS: dict[str, Callable[[], Derivation]] = {
     "helix_torque": helix_torque,
     "helix_torque_balance": helix_torque_balance,
     "helix_with_torque": helix_with_torque,
+    "wall_force_pitch_relation": wall_force_pitch_relation,
     "azimuthal_force_constant_pitch": azimuthal_force_constant_pitch,
     "helix_radial_equilibrium": helix_radial_equilibrium,
     "pitch_lowest_order": pitch_lowest_order,

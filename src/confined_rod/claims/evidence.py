@@ -80,6 +80,19 @@ class Evidence:
         return [(k, self.sims[k]) for k in keys]
 
 
+    def ensemble(self, figure: str, base: str, claim: str) -> list[tuple[str, xr.Dataset]]:
+        """Every member of the scene the config names `base` in a figure (its seeds, or the one run
+        of a scene without seeds), by seed."""
+        names = [k.split("/", 1)[1] for k in self.sims if k.startswith(figure + "/")]
+        groups = ensembles.by_base(names, {n: int(self.sims[f"{figure}/{n}"].attrs.get("seed", 0)) for n in names})
+        if base not in groups:
+            raise ClaimError(f"claim {claim!r} needs the runs of scene {base!r} of figure {figure!r} "
+                             f"({sims_folder(figure)})")
+        keys = [f"{figure}/{n}" for n in groups[base]]
+        self.touched.update(("sim", k) for k in keys)
+        return [(k, self.sims[k]) for k in keys]
+
+
 def _by_length(sims, figure, names):
     return sorted(names, key=lambda n: float(sims[f"{figure}/{n}"].attrs.get("L", 0.0)))
 

@@ -480,7 +480,7 @@ def claim_macros(verdicts: Iterable[Verdict], macros: Macros) -> None:
     for v in verdicts:
         macros.add("ours", v.id, v.ours)
         macros.add("paper", v.id, v.paper)
-        macros.add("verdict", v.id, v.verdict)
+        macros.add("verdict", v.id, v.verdict + (f" ({v.part})" if v.part else ""))
     from .verdicts import ours_only
 
     # the paper's claims are counted apart from the findings of our own (where: "our finding")
@@ -518,12 +518,23 @@ SCENE_ATTRS = STATED_PARAMETERS     # the numbers among them: \val{<figure>.<par
 
 def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     """\\val{<figure>.<variant>.fraction} (mean +- s.d. of F(L)/F(0)), .lower_length, .decay_ratio,
+    .tip_length_range ('6 to 168': over the seeds), .tip_length_median, .tip_length_seeds (and so for
+    .lower_length_...),
     .n_reversals, \\val{<figure>.ramp_change} (the finest ramp step's paired change of F(L) over the seeds
     that keep their final state, %; only with two or more of them), .ramp_state_changes (the seeds that
     changed it) and .ramp_mean_change (the change of the ensemble mean, %)."""
     two = ("fraction", "decay_ratio", "torque_friction_ratio", "pitch_w0_ratio", "K_ratio", "K_ratio_from_torque",
            "lower_torque_ratio", "lower_azimuthal_share", "lower_utilisation", "lower_stuck_share")
     for i, v in enumerate(ds.variant.values):
+        # the region lengths differ in structure between seeds (a tip of 6 R or of 170 R): their
+        # distribution, not a mean over structures
+        for key in ("lower_length", "tip_length"):
+            if f"{key}_member" in ds:
+                x = np.sort(ds[f"{key}_member"].values[i][ds["has_member"].values[i] == 1])
+                if x.size:
+                    macros.add("val", f"{name}.{v}.{key}_range", f"{x[0]:.3g} to {x[-1]:.3g}")
+                    macros.add("val", f"{name}.{v}.{key}_median", f"{float(np.median(x)):.3g}")
+                    macros.add("val", f"{name}.{v}.{key}_seeds", str(x.size))
         for key in ("lower_length", "tip_length", "n_reversals", "lower_torque", "bulk_torque_max") + two:
             if f"{key}_mean" not in ds:
                 continue
@@ -552,10 +563,70 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
                    f"{100 * float(np.atleast_1d(ds.attrs['ramp_ladder_mean_change'])[-1]):+.1f}")
 
 
+def escape_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
+    """\\val{<figure>.event_max_outside_radius}, .event_final_outside_radius and
+    .event_escape_radius (in R) of the constructed event of an escape figure."""
+    for key in ("event_max_outside_radius", "event_final_outside_radius", "event_escape_radius"):
+        macros.add("val", f"{name}.{key}", f"{float(ds.attrs[key]):.3g}")
+
+
+def printed_fits_macros(claims: Iterable[Mapping], datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
+    """\\printedfitstable: per panel with a printed fit (rows) and per reading of the paper's
+    numerics its claim tests (columns: the paper's protocol, then the claim's `readings`), whether
+    the printed curve describes our profile, as the claim decides it (measures.force_decay.printed_panel,
+    at the claim's max_rms): over both windows, the bulk only, or not; our F(L)/F(0) against the
+    printed f(L)/load; and from which s on the curve stays within the tolerance. Empty where no
+    claim of the config tests a printed curve on a built figure."""
+    from .measures.force_decay import printed_panel
+
+    rows, heads, tol = [], None, None
+    for c in claims:
+        t = c["test"]
+        if t.get("name") != "printed_curves" or t["figure"] not in datasets:
+            continue
+        tol = float(t["max_rms"])
+        columns = [("the paper's protocol", t["figure"])] + list((t.get("readings") or {}).items())
+        heads = heads or [label for label, _ in columns]
+        main = datasets[t["figure"]]
+        for i in range(main.sizes["panel"]):
+            if not int(main.has_paper_fit.values[i]):
+                continue
+            fig_name = f"Fig.~{main.attrs['paper_figure']}" if "paper_figure" in main.attrs else \
+                tex_escape(t["figure"])
+            cells = [rf"{fig_name} {tex_escape(str(printed_panel(main, i, tol)['label']))}"]
+            for _, fig in columns[:len(heads)]:
+                ds = datasets.get(fig)
+                if ds is None or i >= ds.sizes["panel"] or not int(ds.has_paper_fit.values[i]):
+                    cells.append("not built")
+                    continue
+                r = printed_panel(ds, i, tol)
+                cells.append(tex_escape(r["answer"]) + rf"; {tex_value(format(r['fraction'], '.3g'))[0]} against "
+                             rf"{tex_value(format(r['by_load'], '.3g'))[0]}"
+                             + (rf"; from $s = {r['start']:.0f}\,R$" if r["start"] is not None else ""))
+            rows.append(" & ".join(cells) + r" \\")
+    table = ""
+    if rows:
+        col = r">{\raggedright\arraybackslash}p"
+        table = (r"\begin{table*}[t]\caption{The printed fits of Figs.~4 and 7 against our profiles, per panel "
+                 r"(rows) and per reading of what the paper leaves open (columns): whether the printed curve "
+                 rf"describes ours, its $|\ln(f/|F_z|)|$ within {tol:g} in rms over the whole wall-contact stretch "
+                 r"and over the bulk helix and in the transmitted fraction (described; over the bulk only; not); "
+                 r"our $F(L)/F(0)$ (mean over the seeds) against the printed $f(L)/|F_z(0)|$, the curve at the "
+                 r"support over the load (the printed curves' own $f(0)$ is not always the load; over it the "
+                 r"fraction is in the claims' notes); and from which $s$ on the printed curve stays within the "
+                 r"tolerance of ours to the end of the stretch (shown member).}\label{tab:printed}" "\n" r"\small" "\n"
+                 rf"\begin{{tabular}}{{@{{}}{col}{{0.1\linewidth}}" + "".join(
+                     rf"{col}{{{0.88 / len(heads):.3f}\linewidth}}" for _ in heads) + r"@{}}\hline" "\n"
+                 + "panel & " + " & ".join(tex_escape(h) for h in heads) + r" \\ \hline" "\n"
+                 + "\n".join(rows) + "\n" r"\hline\end{tabular}\end{table*}")
+    macros.raw.append(r"\newcommand{\printedfitstable}{" + table + "}")
+
+
 def local_law_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     """\\val{<figure>.decay_ratio}: the bulk decay rates over k_fr R/(4EI) of a figure's panels or
     lengths (ensemble means where there are seeds), as a list, each +- the larger of the seed
-    spread and the window effect (as in the claims)."""
+    spread and the window effect (as in the claims); .decay_ratio_rods ('0.80 to 1.06') and
+    .decay_ratio_n_rods: the single rods' range and number."""
     if "decay_ratio" not in ds:
         return
     ok = ds["has_bulk"].values == 1
@@ -567,6 +638,13 @@ def local_law_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     else:
         r, sd = ds["decay_ratio"].values, ds["bulk_decay_rate_err"].values / ds["decay_rate_model"].values
     macros.add_list("val", f"{name}.decay_ratio", [(float(a), float(b)) for a, b, k in zip(r, sd, ok) if k], ".2f")
+    if "bulk_decay_rate_member" in ds:
+        # the single rods behind the means: their range and number
+        rods = (ds["bulk_decay_rate_member"].values / ds["decay_rate_model"].values[:, None])[
+            (ds["has_bulk_member"].values == 1) & ok[:, None]]
+        if rods.size:
+            macros.add("val", f"{name}.decay_ratio_rods", f"{rods.min():.2f} to {rods.max():.2f}")
+            macros.add("val", f"{name}.decay_ratio_n_rods", str(rods.size))
 
 
 def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
@@ -589,6 +667,8 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
             protocol_macros(name, ds, macros)
         if ds.attrs.get("kind") in ("force_profile", "transmitted_force"):
             local_law_macros(name, ds, macros)
+        if ds.attrs.get("kind") == "escape":
+            escape_macros(name, ds, macros)
         if ds.attrs.get("kind") != "convergence":
             continue
         a = ds.attrs
@@ -889,9 +969,9 @@ def claims_table(verdicts: Iterable[Verdict]) -> str:
     for i, v in enumerate(verdicts, 1):
         ours = tex_value(v.ours)[0]
         paper = tex_value(v.paper)[0]
-        verdict = tex_escape(v.verdict)
+        verdict = rf"\textbf{{{tex_escape(v.verdict)}}}" + (f" ({tex_escape(v.part)})" if v.part else "")
         rows.append(rf"C{i} & {tex_escape(v.where)} & {caption_tex(v.claim)} & {paper} & {ours} & "
-                    rf"\textbf{{{verdict}}} \\")
+                    rf"{verdict} \\")
     col = r">{\raggedright\arraybackslash}p"
     head = (rf"\begin{{longtable}}{{@{{}}{col}{{0.035\linewidth}}{col}{{0.12\linewidth}}{col}{{0.39\linewidth}}"
             rf"{col}{{0.13\linewidth}}{col}{{0.13\linewidth}}{col}{{0.1\linewidth}}@{{}}}}" "\n"
@@ -1022,7 +1102,7 @@ def verdicts_from_dataset(ds: xr.Dataset) -> list[Verdict]:
         out.append(Verdict(str(cid), text("where"), text("statement"), text("paper"), number("paper_value"),
                            text("ours"), number("ours_value"), text("tolerance"), text("verdict"),
                            text("evidence"), text("reading"), text("note"),
-                           text("finding") if "finding" in ds else str(cid)))
+                           text("finding") if "finding" in ds else str(cid), text("part")))
     return out
 
 

@@ -77,7 +77,7 @@ def load(path: str | Path) -> list[dict[str, Any]]:
 
 
 # measures that read scene simulations (results/sims/), from the test's figure or figures
-SIM_MEASURES = {"wall_force_coefficient", "capped_fraction", "boundary_wider", "pitch_exponent"}
+SIM_MEASURES = {"wall_force_coefficient", "capped_fraction", "boundary_wider", "pitch_exponent", "local_decay_law"}
 
 
 def required_figures(claims: list[Mapping[str, Any]]) -> dict[str, list[str]]:

@@ -22,7 +22,9 @@ import xarray as xr
 from .evidence import ClaimError, Evidence, pick
 from .measures import MEASURES, Measured
 
-VERDICTS = ("reproduced", "reproduced under reading", "refuted", "inconclusive", "not testable")
+#: "partly reproduced": a claim of several parts (both ends of a rod, say) of which one holds and
+#: another fails; the note names the part that holds
+VERDICTS = ("reproduced", "reproduced under reading", "partly reproduced", "refuted", "inconclusive", "not testable")
 
 
 @dataclass
@@ -40,6 +42,7 @@ class Verdict:
     reading: str = ""
     note: str = ""
     finding: str = ""           # the independent finding it belongs to (claims.yaml `finding`, default its id)
+    part: str = ""              # of a "partly reproduced" claim: the part that holds (e.g. "at the loaded end")
 
 
 def fmt(value: float, spec: str | None = None) -> str:
@@ -111,7 +114,7 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
         paper_text = str(c["paper"])
         if isinstance(c["paper"], (int, float)) and not isinstance(c["paper"], bool):
             paper_value = float(c["paper"])
-    ours_value, note = None, ""
+    ours_value, note, part = None, "", ""
     if method == "not_testable":
         return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, "-", None, "", "not testable",
                        "-", reading, str(test.get("reason", "")), str(c.get("finding", cid)))
@@ -126,7 +129,10 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
             found = MEASURES[test["name"]](ev, test, cid)
             if not isinstance(found, Measured):
                 raise TypeError(f"measure {test['name']} returned {type(found).__name__}, not a Measured")
-            ours_value, holds, evidence, note = found.value, found.holds, found.evidence, found.note
+            ours_value, holds, evidence, note, part = found
+            if part and holds is not False:
+                raise TypeError(f"measure {test['name']} names a part that holds ({part!r}) but does not "
+                                "find the claim as stated to fail")
         if math.isnan(ours_value) and holds is None:
             # the measure found no window that determines the quantity (the note says why): no value
             ours, ours_value = NOT_DETERMINED, None
@@ -140,22 +146,27 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
         evidence += f"; paper value from {paper_src}"
     if holds is None:       # the measure found the answer to depend on an analysis choice (note: why)
         verdict = "inconclusive"
+    elif part and not holds:
+        verdict = "partly reproduced"
     else:
         verdict = ("reproduced under reading" if reading else "reproduced") if holds else "refuted"
     return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, ours, ours_value, _tolerance_text(tol),
-                   verdict, evidence, reading, note, str(c.get("finding", cid)))
+                   verdict, evidence, reading, note, str(c.get("finding", cid)),
+                   part if verdict == "partly reproduced" else "")
 
 
 def evaluate(claims: list[Mapping[str, Any]], ev: Evidence) -> list[Verdict]:
     return [evaluate_one(c, ev) for c in claims]
 
 
-COLUMNS = ("id", "where", "claim", "paper", "ours", "verdict", "tolerance", "reading", "evidence", "note", "finding")
+COLUMNS = ("id", "where", "claim", "paper", "ours", "verdict", "part", "tolerance", "reading", "evidence", "note",
+           "finding")
 
 
 #: a finding's verdict from its claims' (the paper's claims only: claims of ours, whose `where`
 #: says "our finding", do not decide it): the first of these that occurs
-FINDING_ORDER = ("refuted", "inconclusive", "reproduced under reading", "reproduced", "not testable")
+FINDING_ORDER = ("refuted", "partly reproduced", "inconclusive", "reproduced under reading", "reproduced",
+                 "not testable")
 
 
 def ours_only(v: Verdict) -> bool:
@@ -207,7 +218,7 @@ def to_dataset(verdicts: list[Verdict], titles: Mapping[str, str] | None = None)
     data = {VARIABLE.get(name, name): text(name, long) for name, long in (
         ("where", "section, equation or figure of the original"), ("claim", "what the paper says"),
         ("paper", "the paper's value as printed"), ("ours", "our value"),
-        ("verdict", "reproduced, reproduced under reading, refuted or not testable"),
+        ("verdict", ", ".join(VERDICTS)), ("part", "of a partly reproduced claim: the part that holds"),
         ("tolerance", "tolerance deciding the verdict"), ("reading", "interpretation the verdict needs"),
         ("evidence", "dataset and variable, or derivation, behind our value"), ("note", "how it was decided"),
         ("finding", "the independent finding the claim belongs to"))}

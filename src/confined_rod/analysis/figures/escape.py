@@ -109,10 +109,10 @@ def caption(figure, fig_cfg, built) -> str:
                    if ev.free_span() > 0 else "")
     return text + (
         f" (a)-(c) Our constructed event, not the paper's result: a rod of L/R = {ev.L / ev.R:g} under {at}, "
-        f"k_fr = {ev.k_fr:g}, from the straight start, {_geometry(ev)}{built_by_us}. For an escape (a) the "
-        f"last shape before a loop crosses the pore radius above the entrance, (b) the loop out of the pore (a "
-        f"link end {ESCAPE_RADIUS:g} R from the axis), (c) the end of the run, followed on to 4x the escape time "
-        "(its title says whether the loop is still out); "
+        f"k_fr = {ev.k_fr:g}, from the straight start, {_geometry(ev)}{built_by_us}. For a loop that leaves the "
+        f"pore (a) the last shape before it crosses the pore radius above the entrance, (b) the loop out of the "
+        f"pore (a link end {ESCAPE_RADIUS:g} R from the axis), (c) the end of the run, followed on to 4x the "
+        "crossing time (its title says whether the loop is still out: an escape, or drawn back in: a transient); "
         f"for a fold (a) the last shape with L_z >= {START:g} L, (b) the first with L_z < {FOLDED:g} L, (c) the "
         f"end state. Side views of the top {VIEW:g} R of the pore, z along it, x across it (wall at +-R, the "
         "solid around the pore hatched), shaded by depth. (d) Threshold times R^2/EI by bisection (fresh runs; "
@@ -123,9 +123,19 @@ def caption(figure, fig_cfg, built) -> str:
         + ". The paper's frames show the upper half of the pore; here its top only, where the event happens.")
 
 
+def escape_outcome(ev: xr.Dataset, R: float) -> tuple[bool, bool, float]:
+    """Of an event run: (a loop crossed the escape radius ESCAPE_RADIUS R above the entrance
+    during the run, the rod is still out at the end of the run, the largest distance from the
+    axis of a link end above the entrance over the run / R). Out at the end: the last
+    snapshot's farthest link end above the entrance beyond the escape radius."""
+    rho = np.asarray(ev["snap_outside_radius"].values, dtype=float) / R
+    crossed = bool(int(ev["escaped"]))
+    return crossed, bool(rho[-1] > ESCAPE_RADIUS), float(rho.max())
+
+
 def _frames(ds: xr.Dataset, L: float) -> list[int]:
     if int(ds["escaped"]):
-        rho = ds["snap_outside_radius"].values
+        rho = ds["snap_outside_radius"].values / float(ds.attrs["R"])
         out = int(np.flatnonzero(rho > ESCAPE_RADIUS - 1e-9)[0])
         before = np.flatnonzero(rho[:out] <= 1.0)
         return [int(before[-1]) if before.size else 0, out, len(rho) - 1]
@@ -169,7 +179,16 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
               "s_link": variable(("s_link",), ev["s_link"].values, "s_link")}
     ds = xr.Dataset(data, coords=coords)
     closed = data["free_span"].values == 0
-    ds.attrs.update({"event_load": load, "event_L": L, "event_R": R, "event_escaped": int(ev["escaped"]),
+    crossed, out_end, rho_max = escape_outcome(ev, R)
+    ds.attrs.update({"event_load": load, "event_L": L, "event_R": R,
+                     # an escape: a loop crossed the escape radius and the rod is still out at the end
+                     # of the run (followed on to FOLLOW_ESCAPE x the crossing time); a loop drawn
+                     # back in is a transient, not an escape
+                     "event_escaped": int(crossed and out_end), "event_loop_crossed": int(crossed),
+                     "event_max_outside_radius": rho_max,
+                     "event_final_outside_radius": float(ev["snap_outside_radius"].values[-1]) / R,
+                     "event_final_L_z": float(ev["snap_L_z"].values[-1]),
+                     "event_escape_radius": ESCAPE_RADIUS,
                      "event_pore_length": float(ev.attrs["pore_length"]),
                      "event_free_span": float(ev.attrs["free_span"]),
                      "helix_limit": theory.helix_load_limit(1.0, 1.0),
@@ -231,11 +250,11 @@ def plot(ds: xr.Dataset):
     from matplotlib.gridspec import GridSpec
 
     R, L, top = (float(ds.attrs[k]) for k in ("event_R", "event_L", "event_pore_length"))
-    escaped = bool(ds.attrs["event_escaped"])
+    escaped = bool(ds.attrs["event_loop_crossed"])
     fig = P.plt.figure(figsize=(7.0, 5.6))
     gs = GridSpec(4, 2, figure=fig, height_ratios=[1, 1, 1, 2.6], hspace=0.9, wspace=0.32,
                   bottom=0.2, top=0.96, left=0.09, right=0.98)
-    back = escaped and float(ds.frame_outside_radius.values[-1]) <= 1.0
+    back = escaped and not bool(ds.attrs["event_escaped"])
     titles = ({"a": "our constructed event: the span bowing", "b": "a loop out of the pore",
                "c": "end of the run" + (", the loop drawn back in" if back else ", the loop still out")} if escaped
               else {"a": "our constructed event: the fold starting", "b": "the U-bend", "c": "end state"})

@@ -15,6 +15,9 @@ class Measured(NamedTuple):
     holds: bool | None      # None: inconclusive (the answer flips with an analysis choice, or no data decides)
     evidence: str           # the files and variables read
     note: str               # how it was decided, and why where it is inconclusive
+    #: with holds False: the part of the claim that holds, where the claim as stated fails in
+    #: another part (the verdict is then "partly reproduced", e.g. "at the loaded end")
+    part: str = ""
 
 
 Measure = Callable[[Evidence, Mapping[str, Any], str], Measured]
@@ -39,7 +42,7 @@ def _threshold_robust(test: Callable[[float], Measured]) -> Measured:
     """test(fall_min) at DEGENERATE_FALL, its verdict kept only if the same at every threshold
     of FALL_THRESHOLDS (else inconclusive, the note saying how it changes)."""
     results = {fm: test(fm) for fm in FALL_THRESHOLDS}
-    value, holds, evidence, note = results[DEGENERATE_FALL]
+    value, holds, evidence, note = results[DEGENERATE_FALL][:4]
     if len({r.holds for r in results.values()}) > 1:
         holds = None
         note += ("; the verdict depends on the fall below which a window does not determine a fit: "

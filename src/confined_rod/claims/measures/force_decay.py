@@ -4,6 +4,7 @@ regions at the ends (Figs 4, 6, 7)."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -204,8 +205,7 @@ def printed_curves(ev, spec, claim):
     note = "; ".join(notes)
     if answers:
         note += "; under other readings: " + "; ".join(
-            f"{label} ({fig}): {'describes' if h else 'does not describe' if h is False else 'undecided for'} "
-            f"our profiles ({per_panel})" for label, fig, h, per_panel in answers)
+            f"{label} ({fig}): {per_panel}" for label, fig, h, per_panel in answers)
         if any(h != holds for _, _, h, _ in answers):
             holds = None
             note += "; the verdict depends on the reading"
@@ -213,49 +213,108 @@ def printed_curves(ev, spec, claim):
         ", fit_A, fit_l0, fit_c, paper_fit_*", note)
 
 
+def _described_from(ds, i: int, tol: float) -> float | None:
+    """The smallest s of the fit window of panel i from which on the printed curve stays within
+    tol of our |F_z| in |ln ratio| to the end of the window (None: not even at its last point)."""
+    s = np.asarray(ds.s.values, dtype=float)
+    w = np.asarray(ds.in_fit.values[i]) == 1
+    F, f = np.asarray(ds.F_abs.values[i], dtype=float), np.asarray(ds.F_paper_fit.values[i], dtype=float)
+    ok = np.abs(np.log(f[w] / F[w])) <= tol
+    if not ok.size or not ok[-1]:
+        return None
+    bad = np.flatnonzero(~ok)
+    return float(s[w][bad[-1] + 1] if bad.size else s[w][0])
+
+
+def printed_panel(ds, i: int, tol: float) -> dict[str, Any]:
+    """Whether the printed fit of panel i describes our profile (_printed_curve): 'holds' (True,
+    False, None where the windows disagree), 'answer' in words, the rms of ln(f/|F_z|) over the
+    whole stretch and the bulk, our transmitted fraction (ensemble mean, 'sd'), the printed
+    fraction over the load and over the curve's own f(0), 'start' (_described_from) and 'flips'
+    (the f(0) normalisation would give another answer)."""
+    rw, rb = float(ds.paper_rms_log_ratio.values[i]), float(ds.paper_rms_log_ratio_bulk.values[i])
+    frac, sd = _panel_value(ds, "transmitted_fraction", i)
+    if "fraction_std" in ds:
+        sd = float(ds.fraction_std.values[i])
+    f0, by_f0 = float(ds.paper_fit_F0.values[i]), float(ds.paper_fit_fraction.values[i])
+    by_load = by_f0 * f0 / float(ds.attrs["load"])
+    d_load, d_f0 = abs(math.log(by_load / frac)), abs(math.log(by_f0 / frac))
+    windows = _two_windows(rw <= tol, rb <= tol)
+    holds = windows and d_load <= tol
+    answer = {True: "described", False: "not described",
+              None: ("described over the bulk only" if rb <= tol else "described over the whole stretch only")
+              if d_load <= tol else "not described"}[holds]
+    return {"label": _panel_label(ds, i), "holds": holds, "answer": answer, "rms_whole": rw, "rms_bulk": rb,
+            "fraction": frac, "sd": sd, "f0": f0, "by_load": by_load, "by_f0": by_f0, "d_load": d_load,
+            "d_f0": d_f0, "start": _described_from(ds, i, tol), "flips": (windows and d_f0 <= tol) != holds}
+
+
 def _printed_curve(ev, figure: str, tol: float, claim) -> tuple[float, bool | None, list[str], str]:
-    """(worst rms over the bulk, verdict, a note per panel, the per-panel numbers in short) of
-    the printed fits of one figure. A printed curve describes a panel if its rms of
-    ln(f/|F_z|) on both windows and |ln| of its transmitted fraction f(L)/f(0) over ours are all
-    within tol: where a profile falls by less than 2x, the rms alone cannot tell a decaying
-    curve from a flat one (Fig 7's does), the transmitted fraction can."""
+    """(worst rms over the bulk, verdict, a note per panel, the per-panel answers in short) of
+    the printed fits of one figure. A printed curve describes a panel if its rms of ln(f/|F_z|)
+    on both windows and |ln| of the transmitted fraction it implies over ours are all within tol:
+    where a profile falls by less than 2x, the rms alone cannot tell a decaying curve from a flat
+    one (Fig 7's does), the transmitted fraction can. The printed curve's fraction is f(L) over
+    the load, the force at s = 0 by the boundary condition: a curve whose own f(0) is not the
+    load does not pass through the loaded end, which the rms over the whole stretch tests; f(L)/f(0)
+    is given too, with the panels whose answer it would change. Where the windows disagree the
+    panel is described over the bulk only (or the whole stretch only), undecided as a whole."""
     ds = ev.dataset(figure, claim)
-    parts, notes, worst, short = [], [], 0.0, []
+    load = float(ds.attrs["load"])
+    parts, notes, worst, short, flips = [], [], 0.0, [], []
     for i in range(ds.sizes["panel"]):
         if int(ds.has_paper_fit.values[i]) == 0:
             continue
-        rw, rb = float(ds.paper_rms_log_ratio.values[i]), float(ds.paper_rms_log_ratio_bulk.values[i])
-        worst = max(worst, rb)
-        frac, sd = _panel_value(ds, "transmitted_fraction", i)
-        if "fraction_std" in ds:
-            sd = float(ds.fraction_std.values[i])
-        d_frac = abs(math.log(float(ds.paper_fit_fraction.values[i]) / frac))
-        parts.append(_two_windows(rw <= tol, rb <= tol) and d_frac <= tol)
-        short.append(f"{_panel_label(ds, i)} rms {max(rw, rb):.2g}, fraction {frac:.3g}")
+        r = printed_panel(ds, i, tol)
+        worst = max(worst, r["rms_bulk"])
+        parts.append(r["holds"])
+        if r["flips"]:
+            flips.append(r["label"])
+        start = r["start"]
+        short.append(f"{r['label']} {r['answer']} (rms {r['rms_whole']:.2g} whole, {r['rms_bulk']:.2g} bulk; "
+                     f"fraction {r['fraction']:.3g} against {r['by_load']:.3g}"
+                     + (f"; within {tol:g} from s = {start:.3g} R on" if start is not None else "") + ")")
         why = undetermined(float(ds.fit_c.values[i]), float(ds.fall_whole.values[i]))
         fit = (float(ds.fit_A.values[i]), float(ds.fit_l0.values[i]), float(ds.fit_c.values[i]))
         ours = f"ours not determined ({why} over the whole stretch)" if why else \
             f"ours {fit[0]:.3g}, {fit[1]:.3g}, {fit[2]:.3f}"
         A, l0p, c = (float(ds[f"paper_fit_{k}"].values[i]) for k in ("A", "l0", "c"))
-        notes.append(f"{_panel_label(ds, i)}: rms ln ratio {rw:.2g} (whole), {rb:.2g} (bulk); printed A = "
-                     f"{A:g}, l0' = {l0p:g}, c = {c:g} (f(0) = {A * l0p ** c:.3g} against the load "
-                     f"{float(ds.attrs['load']):g}) against {ours}; F(L)/F(0) printed "
-                     f"{float(ds.paper_fit_fraction.values[i]):.3g}, ours {frac:.3g}" + (f" +- {sd:.2g}" if sd else "")
-                     + f" (|ln ratio| {d_frac:.2g})")
+        notes.append(f"{r['label']}: {r['answer']}: rms ln ratio {r['rms_whole']:.2g} (whole), {r['rms_bulk']:.2g} "
+                     f"(bulk); printed A = {A:g}, l0' = {l0p:g}, c = {c:g} (f(0) = {r['f0']:.3g} against the load "
+                     f"{load:g}) against {ours}; F(L)/F(0) ours {r['fraction']:.3g}"
+                     + (f" +- {r['sd']:.2g}" if r["sd"] else "")
+                     + f", printed f(L)/load {r['by_load']:.3g} (|ln ratio| {r['d_load']:.2g}), printed f(L)/f(0) "
+                       f"{r['by_f0']:.3g} (|ln ratio| {r['d_f0']:.2g})"
+                     + (f"; the printed curve is within {tol:g} of ours from s = {start:.3g} R to the end of the "
+                        "stretch" if start is not None else ""))
     if not parts:
         raise ClaimError(f"claim {claim!r}: {dataset_path(figure)} has no printed fit")
-    return worst, _combine(parts), notes, ", ".join(short)
+    if flips:
+        notes.append("normalised by its own f(0) instead of the load, the printed fraction would change the answer "
+                     f"for {', '.join(flips)}")
+    return worst, _combine(parts), notes, "; ".join(short)
+
+
+def _part_runs(ev, fig: str, ds, dim: str, i: int, claim: str) -> frozenset[str] | None:
+    """The files of the runs behind part i (a panel or a length) of a figure, so that a part made of
+    the runs of another (Fig 4(c) and Fig 6 at the same L share them) is counted once; None where
+    the build's simulations of the figure are not at hand (a dataset alone)."""
+    if not any(k.startswith(fig + "/") for k in ev.sims):
+        return None
+    runs = ev.ensemble(fig, str(ds.panel.values[i]), claim) if dim == "panel" else ev.members(fig, i, claim)
+    return frozenset(ev.file(k) for k, _ in runs)
 
 
 @measure
 def local_decay_law(ev, spec, claim):
     """The local decay law in the bulk helix, d(1/|F_z|)/ds against k_fr R/(4EI) (law: corrected)
-    or k_fr R/(2EI) (law: paper), for every panel and length of the figures that has a bulk:
-    the ratio r (ensemble mean where there are seeds) and its uncertainty u = max(window effect,
-    seed s.d.)/law. A part holds if |r - 1| <= tol, fails if |r - 1| - 2u > tol, else is
-    undecided; value: the mean ratio."""
+    or k_fr R/(2EI) (law: paper), for every panel and length of the figures that has a bulk, a
+    part made of the same runs as an earlier one counted once: the ratio r (ensemble mean where
+    there are seeds) and its uncertainty u = max(window effect, seed s.d.)/law. A part holds if
+    |r - 1| <= tol, fails if |r - 1| - 2u > tol, else is undecided; value: the mean ratio over the
+    parts. The note gives the spread over the single rods (every seed of every part) too."""
     law, tol = spec["law"], float(spec["tol"])
-    parts, notes, ratios, files, skipped = [], [], [], [], 0
+    parts, notes, ratios, files, skipped, seen, rods = [], [], [], [], 0, {}, []
     for fig in spec["figures"]:
         ds = ev.dataset(fig, claim)
         files.append(f"{dataset_path(fig)}")
@@ -264,17 +323,33 @@ def local_decay_law(ev, spec, claim):
             if int(ds.has_bulk.values[i]) == 0:
                 skipped += 1
                 continue
+            where = f"{fig} " + (_panel_label(ds, i) if dim == "panel" else f"L/R = {float(ds.L.values[i]):g}")
+            runs = _part_runs(ev, fig, ds, dim, i, claim)
+            if runs is not None and runs in seen:
+                notes.append(f"{where}: the runs of {seen[runs]}, counted once")
+                continue
+            if runs is not None:
+                seen[runs] = where
             ref = float(ds["decay_rate_model" if law == "corrected" else "decay_rate_paper"].values[i])
             rate, sd = _panel_value(ds, "bulk_decay_rate", i, "bulk_decay_rate")
             u = max(float(ds.bulk_decay_rate_err.values[i]), sd) / ref
             r = rate / ref
             ratios.append(r)
+            if "bulk_decay_rate_member" in ds:
+                ok = ds.has_bulk_member.values[i] == 1
+                rods += list(ds.bulk_decay_rate_member.values[i][ok] / ref)
+            else:
+                rods.append(r)
             parts.append(True if abs(r - 1) <= tol else (False if abs(r - 1) - 2 * u > tol else None))
-            where = _panel_label(ds, i) if dim == "panel" else f"L/R = {float(ds.L.values[i]):g}"
-            notes.append(f"{fig} {where}: {r:.3f} +- {u:.2g}")
+            notes.append(f"{where}: {r:.3f} +- {u:.2g}")
     if not ratios:
         raise ClaimError(f"claim {claim!r}: no bulk helix in {files}")
-    note = f"measured/({'k_fr R/(4EI)' if law == 'corrected' else 'k_fr R/(2EI)'}): " + "; ".join(notes)
+    rods_a = np.asarray(rods, dtype=float)
+    off = int(np.sum(np.abs(rods_a - 1) > tol))
+    note = (f"mean over {len(ratios)} parts (panels and lengths, each the mean over its seeds) of "
+            f"measured/({'k_fr R/(4EI)' if law == 'corrected' else 'k_fr R/(2EI)'}): " + "; ".join(notes)
+            + f"; single rods: {rods_a.size}, from {rods_a.min():.3f} to {rods_a.max():.3f}, {off} of them "
+              f"outside +-{tol:g}")
     if skipped:
         note += f"; {skipped} runs without a bulk helix (short rods) not counted"
     return Measured(float(np.mean(ratios)), _combine(parts), \
@@ -402,7 +477,8 @@ def boundary_wider(ev, spec, claim):
     (measure.detached_lengths) and the regions of the force profile (regions.analyse: the tip
     and the lower region). An end is wider (narrower) if in both readings every seed of the
     small load lies above (below) every seed of the large one, else undecided. The paper's
-    "boundary regions" are both ends: holds if both are wider, refuted if one is narrower, else
+    "boundary regions" are both ends: holds if both are wider, partly (at the wider end) if one
+    is wider and the other narrower, refuted if one is narrower and the other not wider, else
     inconclusive. Value: the loaded end's detached length, ratio of the ensemble means."""
     small, large = spec["figures"]
     m7, m4 = ev.members(small, -1, claim), ev.members(large, -1, claim)
@@ -421,16 +497,18 @@ def boundary_wider(ev, spec, claim):
         ends.append(calls[0] if len(set(calls)) == 1 and calls[0] != "overlapping" else None)
         texts.append(f"at {end} {ends[-1] or 'undecided'}: " + ", ".join(parts))
     holds = True if all(e == "wider" for e in ends) else (False if "narrower" in ends else None)
+    # one end wider, the other narrower: the claim holds at one end only (partly reproduced)
+    part = ("at the loaded end" if ends[0] == "wider" else "at the support") if holds is False and "wider" in ends \
+        else ""
     note = ("; ".join(texts) + f" (means and seed ranges over {len(m7)} and {len(m4)} seeds; "
             f"detached: to the first or from the last run of {HELIX_RUN} or more links on the wall, shorter "
             "clusters of contacts inside it not counted; region: the tip and the lower region of the force profile)")
-    if holds is False and "wider" in ends:
-        note = "refuted as stated, holds at " + ("the loaded end" if ends[0] == "wider" else "the support") + \
-            " only: " + note
+    if part:
+        note = f"holds {part} only, refuted at the other end: " + note
     top7 = np.mean([detached_lengths(d)[0] for _, d in m7])
     top4 = np.mean([detached_lengths(d)[0] for _, d in m4])
     return Measured(top7 / max(top4, 1e-300), holds, \
-        f"{ev.file(m7[0][0])}, {ev.file(m4[0][0])} (and their seeds):contact, s_link, F_z, friction_z", note)
+        f"{ev.file(m7[0][0])}, {ev.file(m4[0][0])} (and their seeds):contact, s_link, F_z, friction_z", note, part)
 
 
 @measure

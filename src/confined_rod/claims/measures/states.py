@@ -264,10 +264,30 @@ def fold_threshold_exists(ev, spec, claim):
 
 @measure
 def event_escapes(ev, spec, claim):
+    """Whether the constructed event escapes: a loop crosses the escape radius above the open
+    entrance and the rod is still out at the end of the run (followed on past the crossing). A
+    loop that crosses and is drawn back in is a transient bulge, not an escape. Value: the
+    distance from the axis of the farthest link end above the entrance at the end of the run,
+    in R (an escape: above the escape radius)."""
     ds = ev.dataset(spec["figure"], claim)
-    esc = int(ds.attrs["event_escaped"])
-    return Measured(float(esc), esc == 1, f"{dataset_path(spec['figure'])}:attrs event_escaped", \
-        f"L/R = {float(ds.attrs['event_L']) / float(ds.attrs['event_R']):g}, load {float(ds.attrs['event_load']):g}")
+    a = ds.attrs
+    esc, crossed = int(a["event_escaped"]) == 1, int(a["event_loop_crossed"]) == 1
+    rho_end, rho_max, lim = (float(a[k]) for k in ("event_final_outside_radius", "event_max_outside_radius",
+                                                   "event_escape_radius"))
+    where = (f"L/R = {float(a['event_L']) / float(a['event_R']):g}, load {float(a['event_load']):g} EI/R^2, "
+             f"free span {float(a['event_free_span']) / float(a['event_R']):g} R")
+    if esc:
+        what = f"a loop left the pore (farthest link end {rho_max:.3g} R from the axis) and is still out at the end"
+    elif crossed:
+        what = (f"a loop crossed the escape radius {lim:g} R (farthest link end {rho_max:.4g} R from the axis) and "
+                f"was drawn back in: at the end of the run the farthest link end above the entrance lies "
+                f"{rho_end:.3g} R from the axis and L_z = {float(a['event_final_L_z']) / float(a['event_R']):.4g} R; "
+                "a transient bulge, not an escape")
+    else:
+        what = f"no loop crossed the escape radius {lim:g} R (farthest link end {rho_max:.3g} R from the axis)"
+    return Measured(rho_end, esc, \
+        (f"{dataset_path(spec['figure'])}:attrs event_escaped, event_loop_crossed, event_final_outside_radius, "
+         "event_max_outside_radius"), f"{where}: {what}")
 
 
 @measure
@@ -279,9 +299,12 @@ def escape_at_stated_conditions(ev, spec, claim):
     lo, hi = (float(v) for v in np.asarray(ds.attrs["fold_threshold_range"]).ravel()[:2])
     load = float(ds.attrs["paper_load"])
     below = int(ds.attrs["paper_load_below_fold_thresholds"]) == 1
-    escaped_open = int(ds.attrs.get("event_escaped", 0)) == 1
-    # the paper does not describe its entrance: closed, the rod coils; open, it can escape
-    holds = (None if escaped_open else False) if below else True
+    escaped_open = int(ds.attrs["event_escaped"]) == 1
+    crossed_open = int(ds.attrs["event_loop_crossed"]) == 1
+    # the paper does not describe its entrance: closed, the rod coils; open, a loop can leave the
+    # pore; whether it stays out depends on what holds the loaded end above the entrance (our
+    # guide lets it follow the rod into the pore), which the paper does not describe either
+    holds = (None if crossed_open else False) if below else True
     return Measured(load / lo, holds, \
         (f"{dataset_path(spec['figure'])}:attrs paper_load, fold_threshold_range, "
          "paper_load_below_fold_thresholds"), \
@@ -289,4 +312,9 @@ def escape_at_stated_conditions(ev, spec, claim):
          + ("below them, the rod coils into a helix" if below else "above the smallest")
          + ("; with an open entrance and a free span of "
             f"{float(ds.attrs.get('event_free_span', 0)):g} R (not stated in the paper) the rod escapes at this load: "
-            "the answer depends on the entrance" if escaped_open and below else "")))
+            "the answer depends on the entrance" if escaped_open and below else "")
+         + ("; with an open entrance and a free span of "
+            f"{float(ds.attrs['event_free_span']):g} R (not stated in the paper) a loop leaves the pore at this load "
+            "and is drawn back in as the guided loaded end follows the rod into the pore: whether the rod escapes "
+            "depends on the entrance and on what holds the loaded end above it" if crossed_open and not escaped_open
+            and below else "")))
