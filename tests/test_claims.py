@@ -559,7 +559,8 @@ def test_pitch_slope_is_decided_on_the_mean_over_the_seeds_and_a_shared_run_coun
 
     def fake(cfg, sims):
         (_, d), = sims.items()
-        return xr.Dataset({"exponent_omega_F_whole": ((), d.attrs["slope"]), "exponent_omega_F_bulk": ((), d.attrs["slope"]),
+        x = d.attrs["slope"]
+        return xr.Dataset({"exponent_omega_F_whole": ((), x), "exponent_omega_F_bulk": ((), x),
                            "fall_whole": ((), 5.0), "fall_bulk": ((), 3.0)})
 
     monkeypatch.setattr(pitch_profile, "build", fake)
@@ -656,3 +657,13 @@ def test_the_wall_force_pitch_law_compares_each_rod_with_its_own_pitch():
         value, holds, _, note, _ = claims.MEASURES["wall_force_pitch_law"](claims.Evidence({"p": ds}), spec, "x")
         assert holds is verdict and value == pytest.approx(np.max(np.abs(K / Kw - 1))), note
     assert "p ramp (1 rods): x 0.20-0.20" in note
+
+
+@pytest.mark.parametrize("value, error, text", [
+    (0.1003, 0.0051, "0.1003 +- 0.0051"), (112.3, 25.2, "112 +- 25"), (0.00332, 6.3e-5, "0.003320 +- 0.000063"),
+    (-3.02, 2.6, "-3.0 +- 2.6"), (0.289, 0.0, "0.289")])
+def test_a_value_is_rounded_with_its_error(value, error, text):
+    assert paper.pm(value, error) == text
+    macros = paper.Macros()
+    macros.add_list("val", "k", [(value, error)], ".2f")
+    assert macros.expected()["val@k"] == (text.replace(" +- ", "+-") if error else f"{value:.2f}")

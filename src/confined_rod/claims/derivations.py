@@ -200,8 +200,8 @@ def wall_force_pitch_relation() -> Derivation:
     return Derivation("K/(R F^2/(4EI)) = x^2 (2 - x^2), x = w/w0, w0^2 = F/(2EI)",
                       "(not in the paper: its helix is torque-free, x = 1)", ok,
                       "K = R w^2 (F/c - EI w^2) at c = 1, w = x w0; stationary only at x = 1 (a maximum, 1), zero at "
-                      "x = sqrt 2; the exact form equal to confined_rod.analysis.torque.helix_wall_force_at_force at two "
-                      "points")
+                      "x = sqrt 2; the exact form equal to confined_rod.analysis.torque.helix_wall_force_at_force at "
+                      "two points")
 
 
 def force_decay(paper_K: bool = False) -> sp.Expr:

@@ -422,6 +422,16 @@ def caption_tex(text: str) -> str:
     return _CaptionParser(text).convert()
 
 
+def pm(value: float, error: float, sign: bool = False) -> str:
+    """'value +- error' rounded together: the error to two significant digits, the value to the
+    same decimal place ('0.1003 +- 0.0051', '112 +- 25', '+1.2 +- 0.83'); sign: a leading + on
+    positive values (shifts)."""
+    if not (error > 0 and math.isfinite(error)):
+        return format(value, "+.3g" if sign else ".3g")
+    decimals = max(0, 1 - int(math.floor(math.log10(error))))
+    return f"{value:{'+' if sign else ''}.{decimals}f} +- {error:.{decimals}f}"
+
+
 def _key(name: str) -> str:
     if not re.fullmatch(r"[A-Za-z0-9_.:-]+", name):
         raise ValueError(f"macro key {name!r}: letters, digits, _ . : - only")
@@ -451,8 +461,9 @@ class Macros:
         tex, plain = [], []
         for mean, sd in values:
             t, p = tex_value(format(mean, spec))
-            if sd > 0:
-                t2, p2 = tex_value(format(sd, ".2g"))
+            if sd > 0:          # the value rounded with its error (pm)
+                m, e = pm(mean, sd).split(" +- ")
+                (t, p), (t2, p2) = tex_value(m), tex_value(e)
                 t, p = rf"{t}\ensuremath{{\pm}}{t2}", f"{p}+-{p2}"
             tex.append(t)
             plain.append(p)
@@ -638,13 +649,14 @@ def local_law_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
     else:
         r, sd = ds["decay_ratio"].values, ds["bulk_decay_rate_err"].values / ds["decay_rate_model"].values
     macros.add_list("val", f"{name}.decay_ratio", [(float(a), float(b)) for a, b, k in zip(r, sd, ok) if k], ".2f")
+    # the single rods behind the means (the one run of a panel without seeds): their range and number
     if "bulk_decay_rate_member" in ds:
-        # the single rods behind the means: their range and number
         rods = (ds["bulk_decay_rate_member"].values / ds["decay_rate_model"].values[:, None])[
             (ds["has_bulk_member"].values == 1) & ok[:, None]]
-        if rods.size:
-            macros.add("val", f"{name}.decay_ratio_rods", f"{rods.min():.2f} to {rods.max():.2f}")
-            macros.add("val", f"{name}.decay_ratio_n_rods", str(rods.size))
+    else:
+        rods = np.asarray(ds["decay_ratio"].values)[ok]
+    macros.add("val", f"{name}.decay_ratio_rods", f"{rods.min():.2f} to {rods.max():.2f}" if rods.size else "none")
+    macros.add("val", f"{name}.decay_ratio_n_rods", str(rods.size))
 
 
 def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
@@ -891,8 +903,8 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
         # the shift of F(L) between the publication and the finest rung, split by region (analysis.regions);
         # an l0 ladder's also as \val{l0_ladder.region.<region>} for the text
         if "F_shift_by_region" in ds and int(ds["F_shift_by_region_has"].values[pub]):
-            text = (f"{100 * float(ds['F_shift_by_region'].values[pub, r]):+.2g} +- "
-                    f"{100 * float(ds['F_shift_by_region_se'].values[pub, r]):.2g} %")
+            text = pm(100 * float(ds['F_shift_by_region'].values[pub, r]),
+                      100 * float(ds['F_shift_by_region_se'].values[pub, r]), sign=True) + " %"
             macros.add_text("val", f"{name}.region.{region}", text)
             if str(ds.attrs["parameter"]) == "l0":
                 macros.add_text("val", f"l0_ladder.region.{region}", text)
@@ -905,8 +917,8 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
             if quantity not in qs:
                 continue
             q = qs.index(quantity)
-            parts = [f"{100 * float(ds['cmp_shift'].values[j, q]):+.2g} +- "
-                     f"{100 * float(ds['cmp_shift_se'].values[j, q]):.2g} % against {float(ds['value'].values[j]):g}"
+            parts = [pm(100 * float(ds['cmp_shift'].values[j, q]), 100 * float(ds['cmp_shift_se'].values[j, q]),
+                        sign=True) + f" % against {float(ds['value'].values[j]):g}"
                      for j in range(pub + 1, ds.sizes["rung"]) if int(ds["cmp_verdict_code"].values[j, q])]
             if parts:
                 macros.add_text("val", f"l0_ladder.{key}", " and ".join(parts))
@@ -924,13 +936,13 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
                            f"{100 * float(ds['cmp_compared_tolerance'].values[j, q]):.2g} %)")
         if "lower_friction_use" in ds:
             # the lower region's friction use per rung, coarse to fine (where the ladder's F(L) moves)
-            use = ", ".join(f"{float(m):.3f} +- {float(e):.3f}" for m, e in
+            use = ", ".join(pm(float(m), float(e)) for m, e in
                             zip(ds["lower_friction_use"].values, ds["lower_friction_use_sem"].values))
             values = ", ".join(f"{float(v):g}" for v in ds["value"].values)
             macros.add_text("val", "l0_ladder.lower_friction_use", f"{use} at link lengths {values}")
     if "F_shift_split_total" in ds and int(ds["F_shift_by_region_has"].values[pub]):
-        total = (f"{100 * float(ds['F_shift_split_total'].values[pub]):+.2g} +- "
-                 f"{100 * float(ds['F_shift_split_total_se'].values[pub]):.2g} %")
+        total = pm(100 * float(ds['F_shift_split_total'].values[pub]),
+                   100 * float(ds['F_shift_split_total_se'].values[pub]), sign=True) + " %"
         seeds = str(int(ds["F_shift_split_seeds"].values[pub]))
         macros.add_text("val", f"{name}.region.total", total)
         macros.add("val", f"{name}.region.seeds", seeds)
@@ -946,7 +958,7 @@ def ensemble_ladder_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
             macros.add("val", f"{name}.resolution.{quantity}", "not measured")
             continue
         shift, se = 100 * float(ds["cmp_shift"].values[finest, q]), 100 * float(ds["cmp_shift_se"].values[finest, q])
-        macros.add_text("val", f"{name}.shift.{quantity}", f"{shift:+.2g} +- {se:.2g} %")
+        macros.add_text("val", f"{name}.shift.{quantity}", pm(shift, se, sign=True) + " %")
         macros.add_text("val", f"{name}.resolution.{quantity}",
                         format(100 * float(ds["cmp_resolution"].values[finest, q]), ".2g") + " %")
 
