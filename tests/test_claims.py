@@ -108,6 +108,15 @@ def test_a_malformed_claim_is_refused_when_the_file_is_read(tmp_path, change, me
         claims.load(path)
 
 
+def test_a_finding_title_the_abstract_could_not_quote_word_for_word_is_refused(tmp_path):
+    import yaml
+
+    path = tmp_path / "claims.yaml"
+    path.write_text(yaml.safe_dump({"findings": {"f": "the paper's law"}, "claims": [{**_claim(), "finding": "f"}]}))
+    with pytest.raises(claims.ClaimError, match="findings.f: \"the paper's law\" has an apostrophe"):
+        claims.load(path)
+
+
 def test_missing_evidence_fails_instead_of_deciding():
     with pytest.raises(claims.ClaimError, match="figure 'f'"):
         claims.evaluate_one(_claim(), claims.Evidence({}))

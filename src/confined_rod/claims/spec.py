@@ -2,6 +2,8 @@
 claims share, and which figures and simulations the claims read (checked at start-up)."""
 from __future__ import annotations
 
+import re
+
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -27,6 +29,11 @@ def finding_titles(path: str | Path) -> dict[str, str]:
     titles = data.get("findings") or {}
     if not isinstance(titles, dict) or not all(isinstance(v, str) and v for v in titles.values()):
         raise ClaimError(f"claims file {str(path)!r}: 'findings' must map finding names to non-empty titles")
+    for k, v in titles.items():
+        # quoted in the abstract as plain text, which the PDF check finds word for word
+        if re.search(r"['^_]", v):
+            raise ClaimError(f"claims file {str(path)!r}: findings.{k}: {v!r} has an apostrophe, caret or "
+                             "underscore; titles are quoted in the abstract as plain text")
     return {str(k): v for k, v in titles.items()}
 
 
