@@ -596,8 +596,8 @@ def printed_fits_macros(claims: Iterable[Mapping], datasets: Mapping[str, xr.Dat
         if t.get("name") != "printed_curves" or t["figure"] not in datasets:
             continue
         tol = float(t["max_rms"])
-        columns = [("the paper's protocol", t["figure"])] + list((t.get("readings") or {}).items())
-        heads = heads or [label for label, _ in columns]
+        columns = {"the paper's protocol": t["figure"], **(t.get("readings") or {})}
+        heads = heads or list(columns)
         main = datasets[t["figure"]]
         for i in range(main.sizes["panel"]):
             if not int(main.has_paper_fit.values[i]):
@@ -605,8 +605,8 @@ def printed_fits_macros(claims: Iterable[Mapping], datasets: Mapping[str, xr.Dat
             fig_name = f"Fig.~{main.attrs['paper_figure']}" if "paper_figure" in main.attrs else \
                 tex_escape(t["figure"])
             cells = [rf"{fig_name} {tex_escape(str(printed_panel(main, i, tol)['label']))}"]
-            for _, fig in columns[:len(heads)]:
-                ds = datasets.get(fig)
+            for head in heads:
+                ds = datasets.get(columns.get(head, ""))
                 if ds is None or i >= ds.sizes["panel"] or not int(ds.has_paper_fit.values[i]):
                     cells.append("not built")
                     continue
@@ -628,7 +628,7 @@ def printed_fits_macros(claims: Iterable[Mapping], datasets: Mapping[str, xr.Dat
                  r"tolerance of ours to the end of the stretch (shown member).}\label{tab:printed}" "\n" r"\small" "\n"
                  rf"\begin{{tabular}}{{@{{}}{col}{{0.1\linewidth}}" + "".join(
                      rf"{col}{{{0.88 / len(heads):.3f}\linewidth}}" for _ in heads) + r"@{}}\hline" "\n"
-                 + "panel & " + " & ".join(tex_escape(h) for h in heads) + r" \\ \hline" "\n"
+                 + "panel & " + " & ".join(caption_tex(h) for h in heads) + r" \\ \hline" "\n"
                  + "\n".join(rows) + "\n" r"\hline\end{tabular}\end{table*}")
     macros.raw.append(r"\newcommand{\printedfitstable}{" + table + "}")
 

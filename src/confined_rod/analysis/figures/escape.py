@@ -116,7 +116,8 @@ def caption(figure, fig_cfg, built) -> str:
         f"for a fold (a) the last shape with L_z >= {START:g} L, (b) the first with L_z < {FOLDED:g} L, (c) the "
         f"end state. Side views of the top {VIEW:g} R of the pore, z along it, x across it (wall at +-R, the "
         "solid around the pore hatched), shaded by depth. (d) Threshold times R^2/EI by bisection (fresh runs; "
-        "filled: a loop escaped just above it, open: the rod folded inside the pore) against L/R, and (e) "
+        "filled: a loop crossed the escape radius just above it, a run stopped there and not followed on; open: "
+        "the rod folded inside the pore) against L/R, and (e) "
         f"against the free span g between the guided loaded end and the entrance, for {pts}; beside Euler's "
         "load of the span pi^2 EI/g^2 and the largest load a helix on the wall can carry, 4/(3 sqrt 3) EI/R^2"
         + (f", and the paper's load {paper:g} EI/R^2" if paper else "")
@@ -278,7 +279,7 @@ def plot(ds: xr.Dataset):
             k = m & (esc == e)
             if k.any():
                 ax.errorbar(xv[k], mid[k], yerr=err[k], fmt=mk, color="black", mfc=fill, ms=5, capsize=2,
-                            label=lab + (", escape" if e else ", fold"))
+                            label=lab + (", loop out" if e else ", fold"))
 
     bx = fig.add_subplot(gs[3, 0])
     a = ds["aspect"].values
