@@ -981,7 +981,9 @@ def claims_table(verdicts: Iterable[Verdict]) -> str:
     for i, v in enumerate(verdicts, 1):
         ours = tex_value(v.ours)[0]
         paper = tex_value(v.paper)[0]
-        verdict = rf"\textbf{{{tex_escape(v.verdict)}}}" + (f" ({tex_escape(v.part)})" if v.part else "")
+        # words not hyphenated (the PDF check reads the verdict back word for word)
+        verdict = r"\textbf{" + " ".join(rf"\mbox{{{tex_escape(w)}}}" for w in v.verdict.split()) + "}" \
+            + (f" ({tex_escape(v.part)})" if v.part else "")
         rows.append(rf"C{i} & {tex_escape(v.where)} & {caption_tex(v.claim)} & {paper} & {ours} & "
                     rf"{verdict} \\")
     col = r">{\raggedright\arraybackslash}p"
