@@ -518,7 +518,7 @@ def finding_macros(verdicts: Iterable[Verdict], titles: Mapping[str, str], macro
         macros.add("val", "findings_" + key, "; ".join(named) if named else "none")
     macros.add("val", "n_own_findings", str(len(own)))
     macros.add("val", "n_own_findings_reproduced", str(sum(f[0] == "reproduced" for f in own.values())))
-    macros.add("val", "own_findings_open", "; ".join(titles.get(n, n) for n, f in own.items()
+    macros.add("val", "own_findings_open", "; ".join(f"{titles.get(n, n)} ({f[0]})" for n, f in own.items()
                                                      if f[0] != "reproduced") or "none")
 
 
@@ -543,7 +543,8 @@ def protocol_macros(name: str, ds: xr.Dataset, macros: Macros) -> None:
             if f"{key}_member" in ds:
                 x = np.sort(ds[f"{key}_member"].values[i][ds["has_member"].values[i] == 1])
                 if x.size:
-                    macros.add("val", f"{name}.{v}.{key}_range", f"{x[0]:.3g} to {x[-1]:.3g}")
+                    same = f"{x[0]:.3g}" == f"{x[-1]:.3g}"
+                    macros.add("val", f"{name}.{v}.{key}_range", f"{x[0]:.3g}" + ("" if same else f" to {x[-1]:.3g}"))
                     macros.add("val", f"{name}.{v}.{key}_median", f"{float(np.median(x)):.3g}")
                     macros.add("val", f"{name}.{v}.{key}_seeds", str(x.size))
         for key in ("lower_length", "tip_length", "n_reversals", "lower_torque", "bulk_torque_max") + two:
@@ -625,7 +626,8 @@ def printed_fits_macros(claims: Iterable[Mapping], datasets: Mapping[str, xr.Dat
                  r"our $F(L)/F(0)$ (mean over the seeds) against the printed $f(L)/|F_z(0)|$, the curve at the "
                  r"support over the load (the printed curves' own $f(0)$ is not always the load; over it the "
                  r"fraction is in the claims' notes); and from which $s$ on the printed curve stays within the "
-                 r"tolerance of ours to the end of the stretch (shown member).}\label{tab:printed}" "\n" r"\small" "\n"
+                 r"tolerance of ours to the end of the stretch. The rms and that $s$ are of the shown member "
+                 r"(lowest seed), the fraction is the mean over the seeds.}\label{tab:printed}" "\n" r"\small" "\n"
                  rf"\begin{{tabular}}{{@{{}}{col}{{0.1\linewidth}}" + "".join(
                      rf"{col}{{{0.88 / len(heads):.3f}\linewidth}}" for _ in heads) + r"@{}}\hline" "\n"
                  + "panel & " + " & ".join(caption_tex(h) for h in heads) + r" \\ \hline" "\n"

@@ -105,7 +105,7 @@ def caption(figure, fig_cfg, built) -> str:
     at = f"the paper's load {paper:g} EI/R^2" if paper and abs(ev.load - paper) <= 1e-12 * paper else \
         f"{ev.load:g} EI/R^2"
     built_by_us = (" (our construction: the open entrance, the guide of the loaded end, a pusher in a sleeve, "
-                   "and the span, chosen so that the load lies above the span's escape threshold in (e))"
+                   "and the span, chosen so that the load lies above the span's loop-out threshold in (e))"
                    if ev.free_span() > 0 else "")
     return text + (
         f" (a)-(c) Our constructed event, not the paper's result: a rod of L/R = {ev.L / ev.R:g} under {at}, "
@@ -204,7 +204,7 @@ def build(fig_cfg, sims, context=None) -> xr.Dataset:
 
 
 def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
-    """The error budget's numbers: each fold or escape threshold in units of EI/R^2, with the
+    """The error budget's numbers: each fold or loop-out threshold in units of EI/R^2, with the
     bisection's bracket as its bias and, for an escape through a free span g, the discretisation
     of the span's Euler load; one frictional seed, so no statistical error. A rod repeated in
     other units (R = 2) is counted once."""
@@ -232,7 +232,7 @@ def headlines(figure: str, ds: xr.Dataset) -> list[Headline]:
         if span > 0 and not folds_first:
             terms["discretisation"] = (euler_discretisation(float(ds["aspect_l0"].values[i]), span),
                                        "Euler load of the discrete free span (theory)")
-        what = (f"escape threshold, span g/R = {span:g}" + (" (folds first)" if folds_first else "")
+        what = (f"loop-out threshold, span g/R = {span:g}" + (" (folds first)" if folds_first else "")
                 if span > 0 else "fold threshold")
         out.append(Headline(f"{figure}.threshold.{scene}", figure, f"{what} [EI/R^2], L/R = {aspect:g} ({scene})",
                             0.5 * (lo + hi) * scale, None, 1, "threshold", float(aspect), 0.5 * (lo + hi),
