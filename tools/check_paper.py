@@ -7,6 +7,7 @@ Checks (pdfinfo, pdftotext of poppler-utils):
 * the PDF exists and has the config's expected number of pages (paper.pages: [min, max]);
 * it has one numbered figure per figure of the config;
 * no unresolved reference ("??");
+* the abstract has at most ABSTRACT_WORDS words (a reader's budget, not the config's);
 * every generated value the manuscript quotes (\\ours, \\paperval, \\verdict, \\val) appears in
   the text exactly as results/paper/expected.json (from the datasets) says;
 * every row of the claims table (C1, C2, ...) carries its claim's verdict, paper value and ours;
@@ -38,6 +39,8 @@ from confined_rod.claims import fmt  # noqa: E402
 from confined_rod.claims import manuscript as paper  # noqa: E402
 
 RESULTS = ROOT / layout.RESULTS
+#: words of the abstract as pdftotext gives them back (a number or a symbol counts as a word)
+ABSTRACT_WORDS = 200
 MACRO = re.compile(r"\\(ours|paperval|verdict|val)\{([^}]*)\}")
 FAMILY = {"ours": "ours", "paperval": "paper", "verdict": "verdict", "val": "val"}
 
@@ -80,6 +83,15 @@ def _built(path: str | Path) -> Path:
     return layout.under(RESULTS, path)
 
 
+def abstract_words(raw: str) -> int:
+    """Words of the abstract in the PDF's text: from the line after the date to the first
+    section heading ('I.')."""
+    m = re.search(r"\(Dated:[^)]*\)\s*(.*?)\n\s*I\.\s*\n", raw, re.S)
+    if not m:
+        fail("the abstract was not found between the date and section I")
+    return len(m.group(1).split())
+
+
 def check(config_path: str) -> dict:
     config = yaml.safe_load(Path(config_path).read_text())
     spec = config.get("paper")
@@ -98,6 +110,9 @@ def check(config_path: str) -> dict:
     text = paper.normalize(raw)
     if "??" in raw:
         fail(f"{pdf.name} has an unresolved reference ('??')")
+    n_words = abstract_words(raw)
+    if n_words > ABSTRACT_WORDS:
+        fail(f"{pdf.name}: the abstract has {n_words} words, at most {ABSTRACT_WORDS}")
     figs = sorted({int(n) for n in re.findall(r"FIG\.\s*(\d+)\.", raw)})
     if figs != list(range(1, expected["n_figures"] + 1)):
         fail(f"{pdf.name}: numbered figures {figs}, expected 1..{expected['n_figures']} (one per figure of the config)")
