@@ -282,6 +282,10 @@ FIGURE_QUANTITIES = [
     Quantity("fall_bulk_member", r"F(s_b)/F(s_l)", "factor by which |F_z| falls over the bulk helix, each "
              "ensemble member (0 without a bulk)", "1"),
     Quantity("tip_length_member", "s_b", "tip-region length of each ensemble member", "R"),
+    Quantity("paper_rms_log_ratio_member", "", "rms of ln(f_paper/|F_z|) over the member's own fit window, each "
+             "ensemble member (0 without a printed fit)", "1"),
+    Quantity("paper_rms_log_ratio_bulk_member", "", "rms of ln(f_paper/|F_z|) over the member's own bulk helix, "
+             "each ensemble member (0 without a printed fit or a bulk)", "1"),
     Quantity("lower_length_member", "L - s_l", "lower-region length of each ensemble member", "R"),
     # protocol comparison (figure kind protocol_comparison)
     Quantity("fraction_mean", r"\langle F(L)/F(0)\rangle", "ensemble mean of the transmitted fraction", "1"),

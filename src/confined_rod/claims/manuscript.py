@@ -626,8 +626,9 @@ def printed_fits_macros(claims: Iterable[Mapping], datasets: Mapping[str, xr.Dat
                  r"our $F(L)/F(0)$ (mean over the seeds) against the printed $f(L)/|F_z(0)|$, the curve at the "
                  r"support over the load (the printed curves' own $f(0)$ is not always the load; over it the "
                  r"fraction is in the claims' notes); and from which $s$ on the printed curve stays within the "
-                 r"tolerance of ours to the end of the stretch. The rms and that $s$ are of the shown member "
-                 r"(lowest seed), the fraction is the mean over the seeds.}\label{tab:printed}" "\n" r"\small" "\n"
+                 r"tolerance of ours to the end of the stretch. Where a panel has seeds, the rms is the mean over "
+                 r"them of each seed's and the fraction the mean over them; that $s$ is of the shown member "
+                 r"(lowest seed).}\label{tab:printed}" "\n" r"\small" "\n"
                  rf"\begin{{tabular}}{{@{{}}{col}{{0.1\linewidth}}" + "".join(
                      rf"{col}{{{0.88 / len(heads):.3f}\linewidth}}" for _ in heads) + r"@{}}\hline" "\n"
                  + "panel & " + " & ".join(caption_tex(h) for h in heads) + r" \\ \hline" "\n"

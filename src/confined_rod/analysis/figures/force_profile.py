@@ -209,18 +209,35 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
             return np.nan
     c = pad.values(exponent)
     has_fit = (np.isfinite(c) & (has == 1)).astype(np.int8)
-    per_member = {}
-    for members in panels.values():
+    printed = fig_cfg.get("paper_fits") or {}
+
+    def printed_rms(d, a, pf) -> tuple[float, float]:
+        """rms of ln(f_paper/|F_z|) over the member's own fit window and bulk (as _build's)."""
+        if not pf:
+            return 0.0, 0.0
+        s_ = d["s"].values
+        F_ = np.abs(d["F_z"].values)
+        window = _fit_window(d, trim)[2]
+        curve = power_law(s_, pf["A"], pf["l0"], pf["c"])
+        in_bulk = (s_ >= a.regions.s_bulk_start) & (s_ <= a.regions.s_bulk_end)
+        rms = float(np.sqrt(np.mean(np.log(curve[window] / F_[window]) ** 2)))
+        return rms, float(np.sqrt(np.mean(np.log(curve[in_bulk] / F_[in_bulk]) ** 2))) if in_bulk.any() else 0.0
+
+    per_member, paper_rms = {}, {}
+    for name, members in panels.items():
         for m in members:
             a = regions.analyse(sims[m])
+            paper_rms[m] = printed_rms(sims[m], a, printed.get(name))
             fb, fall_w, fall_b = _bulk_fit(sims[m], a)
             per_member[m] = (a.bulk.rate if a.bulk else np.nan, fb.c if fb else np.nan,
                              a.regions.tip_length, a.regions.lower_length, fall_w, fall_b,
                              float(a.bulk is not None and loosely_wound(sims[m], a)), bulk_part(sims[m], a))
     grid = np.zeros(has.shape + (8,))
+    rms_grid = np.zeros(has.shape + (2,))
     for i, members in enumerate(panels.values()):
         for j, m in enumerate(members):
             grid[i, j] = per_member[m]
+            rms_grid[i, j] = paper_rms[m]
     rate, cb, tip_len, low_len, fall_w, fall_b, loose, bpart = (grid[..., k] for k in range(8))
     has_rate = (np.isfinite(rate) & (has == 1)).astype(np.int8)
     loose = ((loose == 1.0) & (has_rate == 1)).astype(np.int8)
@@ -265,6 +282,8 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
     ds["fall_bulk_member"] = variable(PM, np.where(has_cb == 1, fall_b, 0.0), "fall_bulk_member")
     ds["loosely_wound_member"] = variable(PM, loose, "loosely_wound_member")
     ds["bulk_part_member"] = variable(PM, np.where(has == 1, bpart, 0.0), "bulk_part_member")
+    ds["paper_rms_log_ratio_member"] = variable(PM, rms_grid[..., 0], "paper_rms_log_ratio_member")
+    ds["paper_rms_log_ratio_bulk_member"] = variable(PM, rms_grid[..., 1], "paper_rms_log_ratio_bulk_member")
     sure_bulk = determined(cb, fall_b, has_cb)
     for name, vals, ok in (("bulk_decay_rate", rate, has_rate == 1), ("fit_c_bulk", cb, sure_bulk)):
         st_ = [ensembles.stats(vals[i, ok[i]]) if ok[i].any() else None for i in range(len(panels))]

@@ -229,10 +229,19 @@ def _described_from(ds, i: int, tol: float) -> float | None:
 def printed_panel(ds, i: int, tol: float) -> dict[str, Any]:
     """Whether the printed fit of panel i describes our profile (_printed_curve): 'holds' (True,
     False, None where the windows disagree), 'answer' in words, the rms of ln(f/|F_z|) over the
-    whole stretch and the bulk, our transmitted fraction (ensemble mean, 'sd'), the printed
+    whole stretch and the bulk (of a seed ensemble: the mean over the seeds of each seed's rms,
+    'seeds' their range), our transmitted fraction (ensemble mean, 'sd'), the printed
     fraction over the load and over the curve's own f(0), 'start' (_described_from) and 'flips'
     (the f(0) normalisation would give another answer)."""
     rw, rb = float(ds.paper_rms_log_ratio.values[i]), float(ds.paper_rms_log_ratio_bulk.values[i])
+    seeds = ""
+    if "paper_rms_log_ratio_member" in ds:
+        # a seed ensemble: the mean over the seeds of each seed's rms (the shown member's alone is one draw)
+        on = ds.has_member.values[i] == 1
+        w_m, b_m = ds.paper_rms_log_ratio_member.values[i][on], ds.paper_rms_log_ratio_bulk_member.values[i][on]
+        rw, rb = float(w_m.mean()), float(b_m.mean())
+        seeds = (f"mean rms over {int(on.sum())} seeds, whole {w_m.min():.2g}-{w_m.max():.2g}, "
+                 f"bulk {b_m.min():.2g}-{b_m.max():.2g}")
     frac, sd = _panel_value(ds, "transmitted_fraction", i)
     if "fraction_std" in ds:
         sd = float(ds.fraction_std.values[i])
@@ -246,7 +255,8 @@ def printed_panel(ds, i: int, tol: float) -> dict[str, Any]:
               if d_load <= tol else "not described"}[holds]
     return {"label": _panel_label(ds, i), "holds": holds, "answer": answer, "rms_whole": rw, "rms_bulk": rb,
             "fraction": frac, "sd": sd, "f0": f0, "by_load": by_load, "by_f0": by_f0, "d_load": d_load,
-            "d_f0": d_f0, "start": _described_from(ds, i, tol), "flips": (windows and d_f0 <= tol) != holds}
+            "d_f0": d_f0, "start": _described_from(ds, i, tol), "flips": (windows and d_f0 <= tol) != holds,
+            "seeds": seeds}
 
 
 def _printed_curve(ev, figure: str, tol: float, claim) -> tuple[float, bool | None, list[str], str]:
@@ -285,8 +295,9 @@ def _printed_curve(ev, figure: str, tol: float, claim) -> tuple[float, bool | No
                      + (f" +- {r['sd']:.2g}" if r["sd"] else "")
                      + f", printed f(L)/load {r['by_load']:.3g} (|ln ratio| {r['d_load']:.2g}), printed f(L)/f(0) "
                        f"{r['by_f0']:.3g} (|ln ratio| {r['d_f0']:.2g})"
-                     + (f"; the printed curve is within {tol:g} of ours from s = {start:.3g} R to the end of the "
-                        "stretch" if start is not None else ""))
+                     + (f"; {r['seeds']}" if r["seeds"] else "")
+                     + (f"; the printed curve is within {tol:g} of the shown member's profile from s = {start:.3g} R "
+                        "to the end of the stretch" if start is not None else ""))
     if not parts:
         raise ClaimError(f"claim {claim!r}: {dataset_path(figure)} has no printed fit")
     if flips:
