@@ -3,7 +3,6 @@ claims share, and which figures and simulations the claims read (checked at star
 from __future__ import annotations
 
 import re
-
 from pathlib import Path
 from typing import Any, Mapping
 
