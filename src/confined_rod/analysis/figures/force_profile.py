@@ -128,7 +128,8 @@ def caption(figure, fig_cfg, built) -> str:
     if fig_cfg.get("paper_fits"):
         body += (f" {P.words(P.PAPER_FIT).capitalize()}: the paper's printed fit (its A, l0', c in the panel); "
                  "F(L)/F(0) is the "
-                 "transmitted fraction of our rod and of the printed fit, f(L)/f(0). The difference is a result, "
+                 "transmitted fraction of our rod, f(L)/|F_z(0)| that of the printed fit, its value at the support "
+                 "over the load (its own f(0) is not always the load). The difference is a result, "
                  "not a tuning target (docs/model.md, 'Where the paper's fits disagree with ours').")
     if sc.bending_constant == "paper":
         body += (" Run AS PRINTED: the paper's bending constant C = EI/l0^2 (effective stiffness "
@@ -587,8 +588,9 @@ def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
         lines.append(f"$F(L)/F(0) = {float(d.transmitted_fraction):.3f}$")
     blocks = [("\n".join(lines), P.FIT["color"])]
     if int(d.has_paper_fit):
+        f_load = float(d.paper_fit_fraction * d.paper_fit_F0) / float(d.attrs["load"])
         blocks.insert(0, (f"paper: $c = {float(d.paper_fit_c):g}$\n$l_0' = {float(d.paper_fit_l0):g}\\,R$\n"
-                          f"$f(L)/f(0) = {float(d.paper_fit_fraction):.3f}$", P.PAPER_FIT["color"]))
+                          f"$f(L)/|F_z(0)| = {f_load:.3f}$", P.PAPER_FIT["color"]))
     x0 = 0.97 if not log else 0.03
     ha = "right" if not log else "left"
     for k, (text, color) in enumerate(blocks if corner == "top" else blocks[::-1]):
