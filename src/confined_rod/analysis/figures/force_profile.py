@@ -190,6 +190,11 @@ def _bulk_fit(d: xr.Dataset, a: regions.Analysis):
     return f, fall_whole, fall_bulk
 
 
+def _log_rms(curve: np.ndarray, F: np.ndarray, mask: np.ndarray) -> float:
+    """rms of ln(curve/F) over the points of mask (0 over none): a printed curve against a profile."""
+    return float(np.sqrt(np.mean(np.log(curve[mask] / F[mask]) ** 2))) if mask.any() else 0.0
+
+
 def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -> xr.Dataset:
     """The ensemble of each panel: members' transmitted fraction, exponent and final state,
     their statistics, and the range of the profiles; the panel's transmitted force and
@@ -221,8 +226,7 @@ def _add_ensemble(ds: xr.Dataset, fig_cfg, panels: dict[str, list[str]], sims) -
         window = _fit_window(d, trim)[2]
         curve = power_law(s_, pf["A"], pf["l0"], pf["c"])
         in_bulk = (s_ >= a.regions.s_bulk_start) & (s_ <= a.regions.s_bulk_end)
-        rms = float(np.sqrt(np.mean(np.log(curve[window] / F_[window]) ** 2)))
-        return rms, float(np.sqrt(np.mean(np.log(curve[in_bulk] / F_[in_bulk]) ** 2))) if in_bulk.any() else 0.0
+        return _log_rms(curve, F_, window), _log_rms(curve, F_, in_bulk)
 
     per_member, paper_rms = {}, {}
     for name, members in panels.items():
@@ -366,9 +370,8 @@ def _build(fig_cfg, sims) -> xr.Dataset:
         pf = printed.get(name)
         if pf:
             curve = power_law(s, pf["A"], pf["l0"], pf["c"])
-            scal["paper_rms_log_ratio"].append(float(np.sqrt(np.mean(np.log(curve[window] / F[window]) ** 2))))
-            reg["paper_rms_log_ratio_bulk"].append(float(np.sqrt(np.mean(np.log(curve[in_bulk] / F[in_bulk]) ** 2)))
-                                                   if in_bulk.any() else 0.0)
+            scal["paper_rms_log_ratio"].append(_log_rms(curve, F, window))
+            reg["paper_rms_log_ratio_bulk"].append(_log_rms(curve, F, in_bulk))
             # the local decay rate the printed curve implies over the same bulk window as ours
             pr = regions.decay_rate(s, curve, a.regions.s_bulk_start, a.regions.s_bulk_end) if a.bulk else None
             reg["paper_fit_decay_rate"].append(pr.rate if pr else 0.0)
