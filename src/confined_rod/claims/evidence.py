@@ -72,13 +72,8 @@ class Evidence:
         """Every member of the seed ensemble of a scene (or the one run of a scene without
         seeds), by seed: the scene as in :meth:`sim` (a name or a place by length)."""
         key, first = self.sim(figure, scene, claim)
-        names = [k.split("/", 1)[1] for k in self.sims if k.startswith(figure + "/")]
-        seeds = {n: int(self.sims[f"{figure}/{n}"].attrs.get("seed", 0)) for n in names}
-        base = ensembles.base_name(key.split("/", 1)[1], int(first.attrs.get("seed", 0)))
-        keys = [f"{figure}/{n}" for n in ensembles.by_base(names, seeds)[base]]
-        self.touched.update(("sim", k) for k in keys)
-        return [(k, self.sims[k]) for k in keys]
-
+        return self.ensemble(figure, ensembles.base_name(key.split("/", 1)[1], int(first.attrs.get("seed", 0))),
+                             claim)
 
     def ensemble(self, figure: str, base: str, claim: str) -> list[tuple[str, xr.Dataset]]:
         """Every member of the scene the config names `base` in a figure (its seeds, or the one run
