@@ -6,6 +6,7 @@ does not recognise is escaped as by tex_escape, so no caption can break the buil
 """
 from __future__ import annotations
 
+import json
 import random
 import re
 import shutil
@@ -263,6 +264,58 @@ def test_a_figure_caption_names_the_ladders_that_check_it_with_their_verdicts():
     fig4, fig7 = tex.split(r"\label{fig:fig4_Fonl_ramp}")
     assert r"\texttt{conv\_ramp\_steps\_b} (scene b, ramp\_steps): \textbf{fail}" in fig4
     assert "checked by" not in fig7
+
+
+def test_the_supplement_figures_come_after_the_main_ones_in_one_numbering():
+    """Main part: the paper's figures in the paper's order, then the others in config order; the
+    figures marked ``supplement: true`` follow in config order (one numbering, so the main part's
+    figures 1-8 are the original's 1-8 when the variants are in the supplement)."""
+    config = {"figures": {"conv": {"kind": "convergence", "supplement": True},
+                          "map": {"kind": "jamming_map"},
+                          "f4": {"kind": "force_profile", "paper_figure": 4},
+                          "f4_ramp": {"kind": "force_profile", "paper_figure": 4, "supplement": True},
+                          "f1": {"kind": "helix_views", "paper_figure": 1}}}
+    assert [n for n, _ in paper.figure_order(config)] == ["f1", "f4", "map", "conv", "f4_ramp"]
+    assert paper.in_supplement(config) == {"conv", "f4_ramp"}
+    for name in ("config/config.yaml", "config/ci.yaml"):
+        cfg = yaml.safe_load((ROOT / name).read_text())
+        main = [n for n, _ in paper.figure_order(cfg) if n not in paper.in_supplement(cfg)]
+        numbered = {cfg["figures"][n].get("paper_figure"): i for i, n in enumerate(main, 1)}
+        assert all(numbered[k] == k for k in numbered if k), (name, main)
+
+
+def _verdict(**kw):
+    from confined_rod.claims import Verdict
+    base = dict(id="x", where="Fig. 6", claim="c", paper="0.5", paper_value=0.5, ours="0.961", ours_value=0.961,
+                tolerance="", verdict="inconclusive", evidence="results/datasets/f.nc:v", label="Decay law",
+                quantity="rate/law", protocol="straight", ours_error=0.0172)
+    return Verdict(**{**base, **kw})
+
+
+def test_the_tables_print_ours_with_its_error_and_quantity_and_the_protocol_in_words():
+    v = _verdict()
+    assert paper.ours_text(v) == "0.961 +- 0.017"                  # rounded together
+    assert paper.ours_text(_verdict(ours_error=None)) == "0.961"
+    tex, plain = paper._value_cell(paper.ours_text(v), v.quantity)
+    assert plain == "rate/law = 0.961 +- 0.017" and r"\ensuremath{\pm}" in tex
+    assert paper._value_cell("falls, less than |F_z|", "drop")[1] == "falls, less than |F_z|"   # text: as it is
+    results = paper.results_table([v, _verdict(id="y", protocol="", evidence="confined_rod.claims.derivations.x",
+                                                paper="EI R w^2 [-sqrt(1-R^2w^2) e_phi + R w e_z]", quantity="",
+                                                verdict="reproduced", ours_error=None),
+                                   _verdict(id="z", protocol="helix, ramp, straight")])
+    rows = [r for r in results.splitlines() if r.startswith("C")]
+    assert len(rows) == 3 and "full load at once" in rows[0] and r"\textbf{\mbox{inconclusive}}" in rows[0]
+    assert r"rate/law = 0.961\ensuremath{\pm}0.017" in rows[0]
+    assert "derivation" in rows[1] and r"Table~\ref{tab:claims}" in rows[1]       # too long for a cell
+    assert "3 compared" in rows[2]
+    assert r"\label{tab:results}" in results and "The results: every claim" in results
+    claims = paper.claims_table([v])
+    assert "where (original)" in claims and r"rate/law = 0.961\ensuremath{\pm}0.017" in claims
+    expected = json.loads(paper.write_expected(paper.Macros(), 1, [v]))["claims"][0]
+    assert expected["ours"] == "0.961 +- 0.017" and expected["paper"] == "0.5"
+    macros = paper.Macros()
+    paper.claim_macros([v], macros)
+    assert macros.expected()["ours@x"] == "0.961+-0.017"
 
 
 def test_study_macros_count_the_seeds_that_reached_equilibrium_on_every_rung(tmp_path):

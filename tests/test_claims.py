@@ -59,7 +59,7 @@ def _fig(values: dict, attrs: dict | None = None) -> xr.Dataset:
 
 
 def _claim(**kw):
-    c = {"id": "x", "where": "Fig. 0", "claim": "a claim", "paper": -0.9,
+    c = {"id": "x", "where": "Fig. 0", "label": "A claim", "claim": "a claim", "paper": -0.9,
          "test": {"method": "value", "figure": "f", "var": "fit_c", "isel": {"panel": 0}},
          "tolerance": {"abs": 0.05}}
     c.update(kw)
@@ -136,7 +136,7 @@ def test_half_reduction_length_interpolates_log_linearly_and_tests_every_thresho
     L = np.array([10.0, 40.0, 160.0])
     ds = xr.Dataset({"F_transmitted": ("L", 0.25 * 10 / L)}, coords={"L": L}, attrs={"load": 0.25})
     spec = {"figure": "f", "lo": 31.6, "hi": 316}
-    value, holds, _, note, _ = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), spec, "x")
+    value, holds, _, note, *_ = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), spec, "x")
     assert value == pytest.approx(20.0, rel=1e-12)
     assert holds is None and "below 0.25 at L/R = 40" in note      # 1/2: outside the range, 1/4: inside
     value, holds, *_ = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}),
@@ -145,14 +145,14 @@ def test_half_reduction_length_interpolates_log_linearly_and_tests_every_thresho
     assert claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), {**spec, "lo": 200}, "x")[1] is False
     # already below 1/2 at the shortest rod: the shortest length is an upper bound
     ds["F_transmitted"] = ("L", 0.25 * np.array([0.4, 0.3, 0.2]))
-    value, _, _, note, _ = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), spec, "x")
+    value, _, _, note, *_ = claims.MEASURES["half_reduction_length"](claims.Evidence({"f": ds}), spec, "x")
     assert value == 10.0 and "below 0.5 at L/R <= 10" in note
 
 
 def test_transmitted_decay_needs_a_continuing_decrease():
     L = np.array([80.0, 160.0, 320.0])
     ds = xr.Dataset({"F_transmitted": ("L", [0.1, 0.05, 0.025])}, coords={"L": L}, attrs={"load": 0.25})
-    value, holds, _, _, _ = claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ds}), {"figure": "f"}, "x")
+    value, holds, _, _, *_ = claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ds}), {"figure": "f"}, "x")
     assert holds and value == pytest.approx(0.1)                       # slope -1
     ds["F_transmitted"] = ("L", [0.1, 0.06, 0.05])                      # levelling off: slope -0.26
     assert not claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ds}), {"figure": "f"}, "x")[1]
@@ -170,9 +170,10 @@ def test_wall_force_coefficient_of_an_exact_helix_names_the_exact_relation():
                      coords={"s_link": ("s_link", s_link), "s_helix": ("s_helix", s_link)},
                      attrs={"R": 1.0, "EI": 1.0, "k_fr": 0.0, "L": 20.0, "l0": 0.5})
     ev = claims.Evidence({}, {"fig/L20": sim})
-    value, holds, _, note, _ = claims.MEASURES["wall_force_coefficient"](ev, {"figure": "fig"}, "x")
+    value, holds, _, note, _, error = claims.MEASURES["wall_force_coefficient"](ev, {"figure": "fig"}, "x")
     assert value == pytest.approx(1 / (4 * (1 - w**2)))          # 1/3, not 1/4 and not 1/2
-    assert note.endswith("The data confirm the exact constant-pitch relation")
+    assert "The data confirm the exact constant-pitch relation" in note
+    assert error == 0.0                      # a constant helix: both halves of the bulk agree
     sim.attrs["k_fr"] = 0.8
     with pytest.raises(claims.ClaimError, match="k_fr = 0.8, needs 0"):
         claims.MEASURES["wall_force_coefficient"](ev, {"figure": "fig"}, "x")
@@ -184,7 +185,8 @@ def test_claims_dataset_has_no_nan_and_round_trips():
           claims.evaluate_one({"id": "y", "where": "Sec. I", "claim": "c", "paper": "text",
                                "test": {"method": "not_testable", "reason": "no model"}}, ev)]
     vs.append(claims.Verdict("z", "Fig. 7", "c", "wider", None, "4.3", 4.3, "", "partly reproduced", "e",
-                             part="at the loaded end"))
+                             part="at the loaded end", label="Wider", quantity="ratio", protocol="ramp, straight",
+                             ours_error=0.2))
     ds = claims.to_dataset(vs)
     assert all(np.all(np.isfinite(ds[v].values)) for v in ("paper_value", "ours_value"))
     assert list(ds.has_ours_value.values) == [1, 0, 1] and ds.attrs["n_not_testable"] == 1
@@ -192,6 +194,9 @@ def test_claims_dataset_has_no_nan_and_round_trips():
     back = paper.verdicts_from_dataset(ds)
     assert [b.verdict for b in back] == ["reproduced", "not testable", "partly reproduced"]
     assert back[1].ours_value is None and back[2].part == "at the loaded end" and back[0].part == ""
+    assert (back[2].label, back[2].quantity, back[2].protocol, back[2].ours_error) == \
+        ("Wider", "ratio", "ramp, straight", 0.2)
+    assert back[0].ours_error is None and back[0].label == "A claim" and np.isfinite(ds.ours_error.values).all()
     assert claims.to_csv(vs).splitlines()[0].startswith("id,where,claim,paper,ours,verdict")
 
 
@@ -330,7 +335,7 @@ def test_a_printed_curve_is_not_compared_with_an_undetermined_fit_of_ours():
     for fall, text in ((1.46, "against ours not determined (|F_z| falls only 1.46x over the whole stretch)"),
                        (3.0, "against ours 0.88, 288, -0.757")):
         ev = claims.Evidence({"f": _printed_fig({**base, "fall_whole": [fall]}, 0.0125, off=0.3, off_until=400)})
-        value, holds, _, note, _ = claims.MEASURES["printed_curves"](ev, spec, "x")
+        value, holds, _, note, *_ = claims.MEASURES["printed_curves"](ev, spec, "x")
         assert holds is False and value == pytest.approx(0.25) and text in note, note
     assert "(f(0) = 0.012 against the load 0.0125)" in note          # 15.5 x 2010^-0.942
     # another reading of the paper's numerics under which the printed curve describes the profile:
@@ -339,18 +344,18 @@ def test_a_printed_curve_is_not_compared_with_an_undetermined_fit_of_ours():
     close = {**fits, "paper_rms_log_ratio": [0.08], "paper_rms_log_ratio_bulk": [0.07]}
     ev = claims.Evidence({"f": _printed_fig(fits, 0.0125, off=0.3, off_until=400),
                           "g": _printed_fig({**close, "transmitted_fraction": [0.85]}, 0.0125, off=0.3, off_until=50)})
-    value, holds, _, note, _ = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
+    value, holds, _, note, *_ = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
     assert holds is None and "printed C (g): (a) described (rms 0.08 whole, 0.07 bulk; fraction 0.85 against " \
         "0.834; within 0.1 from s = 50 R on)" in note, note
     assert note.endswith("the verdict depends on the reading")
     # close in rms but not in the transmitted fraction (0.834 against 0.70, Fig 7 as printed): a flat
     # profile would pass the rms where the profile falls little; it does not describe it
     ev.datasets["g"] = _printed_fig({**close, "transmitted_fraction": [0.70]}, 0.0125)
-    value, holds, _, note, _ = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
+    value, holds, _, note, *_ = claims.MEASURES["printed_curves"](ev, {**spec, "readings": {"printed C": "g"}}, "x")
     assert holds is False and "printed C (g): (a) not described (rms 0.08 whole, 0.07 bulk; fraction 0.7" in note
     # a reading this config does not build, or builds without the printed fits, is skipped and said so
     ev.datasets["h"] = _printed_fig({**fits, "has_paper_fit": [0]}, 0.0125)
-    v2, holds, _, note, _ = claims.MEASURES["printed_curves"](
+    v2, holds, _, note, *_ = claims.MEASURES["printed_curves"](
         ev, {**spec, "readings": {"absent": "nowhere", "unfitted": "h"}}, "x")
     assert holds is False and "absent: not built by this config" in note and "unfitted (h): no printed fit" in note
 
@@ -363,7 +368,7 @@ def test_the_printed_fraction_is_taken_over_the_load_and_each_window_is_answered
     ours = {"paper_rms_log_ratio": [0.05], "paper_rms_log_ratio_bulk": [0.04], "transmitted_fraction": [0.242],
             "fall_whole": [3.0]}
     ev = claims.Evidence({"f": _printed_fig(ours, 0.25, A, l0p, c, off=0.5, off_until=97.0)})
-    value, holds, _, note, _ = claims.MEASURES["printed_curves"](ev, {"figure": "f", "max_rms": 0.1}, "x")
+    value, holds, _, note, *_ = claims.MEASURES["printed_curves"](ev, {"figure": "f", "max_rms": 0.1}, "x")
     f0 = A * l0p ** c
     assert f0 == pytest.approx(0.385, abs=1e-3) and holds is True
     assert f"printed f(L)/load {A * (l0p + 320) ** c / 0.25:.3g}" in note and "printed f(L)/f(0) 0.151" in note
@@ -371,7 +376,7 @@ def test_the_printed_fraction_is_taken_over_the_load_and_each_window_is_answered
     assert "within 0.1 of the shown member's profile from s = 97 R to the end of the stretch" in note, note
     # the bulk within 0.1, the whole stretch not: described over the bulk only, undecided
     ev = claims.Evidence({"f": _printed_fig({**ours, "paper_rms_log_ratio": [0.31]}, 0.25, A, l0p, c)})
-    holds, note = claims.MEASURES["printed_curves"](ev, {"figure": "f", "max_rms": 0.1}, "x")[1::2]
+    holds, note = claims.MEASURES["printed_curves"](ev, {"figure": "f", "max_rms": 0.1}, "x")[1:4:2]
     assert holds is None and note.startswith("(a): described over the bulk only")
 
 
@@ -393,14 +398,14 @@ def _law_fig(ratios, errs, has=None):
 ])
 def test_local_decay_law_verdict(ratios, errs, law, verdict):
     ev = claims.Evidence({"f": _law_fig(ratios, errs)})
-    value, holds, _, note, _ = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": law, "tol": 0.1}, "x")
+    value, holds, _, note, *_ = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": law, "tol": 0.1}, "x")
     assert {True: "reproduced", False: "refuted", None: "inconclusive"}[holds] == verdict, note
     assert value == pytest.approx(np.mean(ratios) / (1 if law == "corrected" else 2))
 
 
 def test_local_decay_law_skips_lengths_without_a_bulk():
     ev = claims.Evidence({"f": _law_fig([0.3, 1.0], [0.01, 0.02], has=[0, 1])})
-    value, holds, _, note, _ = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": "corrected",
+    value, holds, _, note, *_ = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": "corrected",
                                                                     "tol": 0.1}, "x")
     assert holds is True and value == pytest.approx(1.0) and "1 runs without a bulk helix" in note
 
@@ -419,7 +424,7 @@ def test_straight_branch_compliance_is_the_bond_compliance_of_the_tilted_rod():
                     attrs={"main_index": 0, "k_ph": k_ph})
     ds.state_class.attrs["flag_meanings"] = "straight planar three_d"
     ev = claims.Evidence({"f": ds})
-    value, holds, _, note, _ = claims.MEASURES["straight_branch_compliance"](ev, {"figure": "f"}, "x")
+    value, holds, _, note, *_ = claims.MEASURES["straight_branch_compliance"](ev, {"figure": "f"}, "x")
     assert value == pytest.approx(L**2 / (L**2 - 4 * R**2), rel=1e-9) and "3 loads" in note
     ratio, ok, *_ = claims.MEASURES["straight_branch_tilt"](ev, {"figure": "f", "rel": 0.05}, "x")
     assert ratio == pytest.approx(1.0, rel=1e-9) and ok
@@ -444,7 +449,7 @@ def test_boundary_wider_reads_both_ends_in_both_readings_over_the_seeds():
     small = _rods("f7/s", 2, tip_end=20.0, bulk_end=85.0, detached_bottom=10.0, tip_contacts=(3, 30))
     large = _rods("f4/c", 2, tip_end=5.0, bulk_end=75.0, detached_bottom=15.0, tip_contacts=(1, 7))
     ev = claims.Evidence({}, {**small, **large})
-    value, holds, _, note, part = claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")
+    value, holds, _, note, part, _ = claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")
     assert value == pytest.approx(20.25 / 5.25, rel=0.05)     # detached at the loaded end, means of the seeds
     assert holds is False and part == "at the loaded end" and note.startswith("holds at the loaded end only")
     assert "at the support narrower: detached 10 R" in note
@@ -458,7 +463,7 @@ def test_boundary_wider_reads_both_ends_in_both_readings_over_the_seeds():
     # the readings disagree at the support (detached: wider; region: narrower): undecided there
     large = _rods("f4/c", 2, tip_end=5.0, bulk_end=75.0, detached_bottom=5.0, tip_contacts=(1, 7))
     ev = claims.Evidence({}, {**small, **large})
-    holds, note = claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")[1::2]
+    holds, note = claims.MEASURES["boundary_wider"](ev, {"figures": ["f7", "f4"]}, "x")[1:4:2]
     assert holds is None and "at the support undecided" in note
 
 
@@ -474,12 +479,12 @@ def test_printed_decay_readings_find_the_reading_that_predicts_the_printed_rate(
                         attrs={"panel_parameter": "k_fr", "k_fr": 0.8, "l0": 0.5, "EI": 1.0, "R": 1.0})
         return claims.Evidence({"f": ds})
     spec = {"figures": ["f"], "tol": 0.1}
-    value, holds, _, note, _ = claims.MEASURES["printed_decay_readings"](fig(1.0), spec, "x")
+    value, holds, _, note, *_ = claims.MEASURES["printed_decay_readings"](fig(1.0), spec, "x")
     assert holds and value == pytest.approx(1.0) and "printed/predicted = 1.00, 1.00, 1.00 (agrees)" in note
-    value, holds, _, note, _ = claims.MEASURES["printed_decay_readings"](fig(0.5), spec, "x")
+    value, holds, _, note, *_ = claims.MEASURES["printed_decay_readings"](fig(0.5), spec, "x")
     assert holds and value == pytest.approx(0.5)
     assert "k_fr l0/(4EI): printed/predicted = 1.00, 1.00, 1.00 (agrees)" in note
-    value, holds, _, note, _ = claims.MEASURES["printed_decay_readings"](fig(0.1), spec, "x")
+    value, holds, _, note, *_ = claims.MEASURES["printed_decay_readings"](fig(0.1), spec, "x")
     assert holds and "l0 = 0.1, 0.1, 0.1 R (one l0 fits all)" in note    # the printed C at l0 = 0.1 R
 
 
@@ -523,10 +528,10 @@ def test_torque_budget_claim_leaves_out_runs_not_at_equilibrium():
     ds = _protocols(["a", "b"], torque_closure=[1e-6, 0.2], torque_friction_ratio=[0.5, -0.5],
                     torque_budget_residual=[0.01 / 1.5, 0.0])
     spec = {"figures": ["p"], "max_closure": 1e-4, "tol": 0.05}
-    value, holds, _, _, _ = claims.MEASURES["torque_budget_closes"](claims.Evidence({"p": ds}), spec, "x")
+    value, holds, _, _, *_ = claims.MEASURES["torque_budget_closes"](claims.Evidence({"p": ds}), spec, "x")
     assert holds is False                                   # member b: the budget does not close
     ds["converged_member"].values[1, 0] = 0
-    value, holds, _, note, _ = claims.MEASURES["torque_budget_closes"](claims.Evidence({"p": ds}), spec, "x")
+    value, holds, _, note, *_ = claims.MEASURES["torque_budget_closes"](claims.Evidence({"p": ds}), spec, "x")
     assert holds is True and "not at equilibrium left out" in note and value == pytest.approx(0.01 / 1.5)
 
 
@@ -537,7 +542,7 @@ def test_loading_path_claim_orders_by_pitch_not_by_the_size_of_the_torque():
     ds = _protocols(["a", "b", "c"], pitch_w0_ratio=[1.12, 0.27, 1.45], K_ratio=[0.98, 0.18, 0.38],
                     decay_ratio=[0.96, 0.15, 0.16], **common)
     spec = {"figure": "p", "variants": ["a", "b", "c"]}
-    value, holds, _, note, _ = claims.MEASURES["loading_path_torque"](claims.Evidence({"p": ds}), spec, "x")
+    value, holds, _, note, *_ = claims.MEASURES["loading_path_torque"](claims.Evidence({"p": ds}), spec, "x")
     assert holds is True and value == pytest.approx(0.98) and "pitch nearest the torque-free one: a" in note
     ds = _protocols(["a", "b", "c"], pitch_w0_ratio=[1.12, 0.27, 1.45], K_ratio=[0.3, 0.9, 0.38],
                     decay_ratio=[0.96, 0.15, 0.16], **common)
@@ -578,7 +583,7 @@ def test_pitch_slope_is_decided_on_the_mean_over_the_seeds_and_a_shared_run_coun
     sims["f5/c"] = sims["f6/L320-s0"]
     files = {k: f"sims/{'f6/L320-s0' if k == 'f5/c' else k}.nc" for k in sims}
     spec = {"figure": "f5", "expected": 0.5, "tol": 0.05, "seeds_from": "f6"}
-    value, holds, _, note, _ = claims.MEASURES["pitch_exponent"](claims.Evidence({}, sims, files), spec, "x")
+    value, holds, _, note, *_ = claims.MEASURES["pitch_exponent"](claims.Evidence({}, sims, files), spec, "x")
     assert value == pytest.approx(np.mean(slopes)) and holds is None and "over 5 seeds" in note, note
     # the same spread around 0.47: within the tolerance; around 0.40: beyond it by more than 2 s.e.
     for shift, verdict in ((0.021, True), (-0.05, False)):
@@ -604,7 +609,7 @@ def test_local_decay_law_counts_shared_runs_once_and_gives_the_spread_of_the_rod
     sims.update({f"f6/L320-s{i}": sims[f"f4/c-s{i}"] for i in range(3)})
     files = {k: f"sims/f4/c-s{k[-1]}.nc" for k in sims}
     ev = claims.Evidence({"f4": f4, "f6": f6}, sims, files)
-    value, holds, _, note, _ = claims.MEASURES["local_decay_law"](
+    value, holds, _, note, *_ = claims.MEASURES["local_decay_law"](
         ev, {"figures": ["f4", "f6"], "law": "corrected", "tol": 0.1}, "x")
     assert value == pytest.approx(0.95) and holds is True
     assert "f6 L/R = 320: the runs of f4 c, counted once" in note and "mean over 1 parts" in note
@@ -666,7 +671,7 @@ def test_the_wall_force_pitch_law_compares_each_rod_with_its_own_pitch():
                              (Kw * np.array([1.0, 1.5, 1.0]), False, ""),
                              (Kw * 1.3, False, "")):
         ds = _protocols(["straight", "ramp", "helix"], K_ratio=K, K_ratio_from_pitch=Kw, pitch_w0_ratio=x)
-        value, holds, _, note, got = claims.MEASURES["wall_force_pitch_law"](claims.Evidence({"p": ds}), spec, "x")
+        value, holds, _, note, got, _ = claims.MEASURES["wall_force_pitch_law"](claims.Evidence({"p": ds}), spec, "x")
         assert holds is verdict and got == part and value == pytest.approx(np.max(np.abs(K / Kw - 1))), note
     assert "p ramp (1 rods, fails): x 0.20-0.20" in note
 

@@ -10,7 +10,9 @@ Checks (pdfinfo, pdftotext of poppler-utils):
 * the abstract has at most ABSTRACT_WORDS words (a reader's budget, not the config's);
 * every generated value the manuscript quotes (\\ours, \\paperval, \\verdict, \\val) appears in
   the text exactly as results/paper/expected.json (from the datasets) says;
-* every row of the claims table (C1, C2, ...) carries its claim's verdict, paper value and ours;
+* the main part (before the supplement, Appendix A) has at most MAIN_PAGES pages;
+* every row of the results table (C1, C2, ...) carries its claim's verdict, and every row of the
+  claims table its verdict, paper value and ours;
 * results/claims.csv has one row per claim of paper/claims.yaml, each with a verdict.
 With --perturb: change one scene parameter (the short rod of fig1_short_long: L -> L + 4 R) in a
 copy of the config, rebuild the PDF with Snakemake, and check that the load/Euler ratio quoted in
@@ -41,6 +43,10 @@ from confined_rod.claims import manuscript as paper  # noqa: E402
 RESULTS = ROOT / layout.RESULTS
 #: words of the abstract as pdftotext gives them back (a number or a symbol counts as a word)
 ABSTRACT_WORDS = 200
+#: pages of the main part, up to the supplement (Appendix A: after a \clearpage, on a page of
+#: its own): a reader's budget for the text, the results table and the main figures
+MAIN_PAGES = 12
+SUPPLEMENT = re.compile(r"Appendix\s+A:\s*Supplement", re.I)
 MACRO = re.compile(r"\\(ours|paperval|verdict|val)\{([^}]*)\}")
 FAMILY = {"ours": "ours", "paperval": "paper", "verdict": "verdict", "val": "val"}
 
@@ -110,6 +116,11 @@ def check(config_path: str) -> dict:
     text = paper.normalize(raw)
     if "??" in raw:
         fail(f"{pdf.name} has an unresolved reference ('??')")
+    first = next((i for i, page in enumerate(raw.split("\f")) if SUPPLEMENT.search(page)), None)
+    if first is None:
+        fail(f"{pdf.name}: no supplement (Appendix A) found")
+    if first > MAIN_PAGES:
+        fail(f"{pdf.name}: the main part has {first} pages before the supplement, at most {MAIN_PAGES}")
     n_words = abstract_words(raw)
     if n_words > ABSTRACT_WORDS:
         fail(f"{pdf.name}: the abstract has {n_words} words, at most {ABSTRACT_WORDS}")
@@ -128,23 +139,29 @@ def check(config_path: str) -> dict:
             missing.append(f"{family}{{{key}}} = {plain!r}")
     if missing:
         fail(f"{len(missing)} generated values are not in the PDF text: " + "; ".join(missing[:10]))
-    # the claims table, row by row (labels C1, C2, ... in order)
+    # the results table (main text) and the claims table (supplement), row by row (labels C1, C2,
+    # ... in order): the verdict, and the paper's value and ours where they are numbers (a text
+    # spanning several lines of a cell comes out of pdftotext interleaved with the neighbouring cells)
     laid_out = pdf_text(pdf, layout=True)          # rows stay on their lines
-    table = paper.normalize(laid_out[laid_out.rfind("Every checkable statement"):])
-    rows, start = expected["claims"], 0
-    for i, row in enumerate(rows):
-        start = table.find(row["label"], start)
-        if start < 0:
-            fail(f"claims table: row {row['label']} ({row['id']}) not found")
-        end = table.find(rows[i + 1]["label"], start + 1) if i + 1 < len(rows) else table.find("Thereadings", start)
-        seg = table[start:end if end > 0 else len(table)]
-        # the verdict, and the paper's value and ours where they are numbers (a text spanning several
-        # lines of a cell comes out of pdftotext interleaved with the neighbouring cells)
-        for what in ("verdict", "ours", "paper"):
-            if what != "verdict" and not paper.is_number(row[what]):
-                continue
-            if not in_order(row[what], seg):
-                fail(f"claims table row {row['label']} ({row['id']}): {what} {row[what]!r} not in {seg[:200]!r}")
+    rows = expected["claims"]
+    for name, start_text, end_text, values in (
+            ("results table", "The results: every claim", "Table ", ("verdict",)),
+            ("claims table", "Every checkable statement", "Thereadings", ("verdict", "ours", "paper"))):
+        at = laid_out.find(start_text)
+        if at < 0:
+            fail(f"{pdf.name}: the {name} ({start_text!r} ...) is not in the PDF")
+        table, start = paper.normalize(laid_out[at:]), 0
+        for i, row in enumerate(rows):
+            start = table.find(row["label"], start)
+            if start < 0:
+                fail(f"{name}: row {row['label']} ({row['id']}) not found")
+            end = table.find(rows[i + 1]["label"], start + 1) if i + 1 < len(rows) else table.find(end_text, start)
+            seg = table[start:end if end > 0 else len(table)]
+            for what in values:
+                if what != "verdict" and not paper.is_number(row[what].split(" ")[0]):
+                    continue
+                if not in_order(row[what], seg):
+                    fail(f"{name} row {row['label']} ({row['id']}): {what} {row[what]!r} not in {seg[:200]!r}")
     listed = claims_mod.load(ROOT / spec["claims"])
     with open(_built(layout.CLAIMS_CSV)) as f:
         table_rows = list(csv.DictReader(f))
@@ -154,7 +171,7 @@ def check(config_path: str) -> dict:
     if bad:
         fail(f"{layout.CLAIMS_CSV}: claims without a verdict: {bad}")
     counts = {v: sum(r["verdict"] == v for r in table_rows) for v in claims_mod.VERDICTS}
-    print(f"check_paper: {pdf.name}: {n_pages} pages, {len(figs)} figures, "
+    print(f"check_paper: {pdf.name}: {n_pages} pages ({first} before the supplement), {len(figs)} figures, "
           f"{len(used_macros(ROOT / spec['manuscript'], _built(layout.paper_source('numbers'))))} generated "
           f"values and {len(rows)} claim rows found in the text; verdicts {counts}")
     return expected

@@ -56,7 +56,8 @@ CLAIMS_NC = str(RESULTS / "claims.nc")
 SCENE_FOLDERS = (SIMS, PROBES, PATHS)
 #: the manuscript's generated parts (rule paper_sources), by output name
 PAPER_SOURCES = {"numbers": "numbers.tex", "table": "claims_table.tex", "readings": "readings_table.tex",
-                 "figures": "figures.tex", "expected": "expected.json"}
+                 "results": "results_table.tex", "figures": "figures.tex",
+                 "supplement_figures": "supplement_figures.tex", "expected": "expected.json"}
 
 
 def sim_path(figure: str, scene: str) -> str:

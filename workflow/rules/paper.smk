@@ -34,8 +34,9 @@ rule claims:
 
 
 rule paper_sources:
-    """The manuscript's generated parts: numbers (macros), claims and readings tables, figure
-    floats with captions and provenance, and the text the PDF check expects."""
+    """The manuscript's generated parts: numbers (macros), the results, claims and readings
+    tables, the figure floats of the main part and of the supplement with captions and
+    provenance, and the text the PDF check expects."""
     input:
         claims=layout.CLAIMS_NC,
         claims_spec=claims_file,
@@ -47,11 +48,14 @@ rule paper_sources:
         numbers=layout.paper_source("numbers"),
         table=layout.paper_source("table"),
         readings=layout.paper_source("readings"),
+        results=layout.paper_source("results"),
         figures=layout.paper_source("figures"),
+        supplement_figures=layout.paper_source("supplement_figures"),
         expected=layout.paper_source("expected"),
     params:
         figures=lambda wildcards: pipeline.figures(config),
         order=lambda wildcards: manuscript.figure_order(config),
+        supplement=lambda wildcards: sorted(manuscript.in_supplement(config)),
         captions=lambda wildcards: {f: pipeline.caption(config, f) for f in pipeline.figures(config)},
         config_name=CONFIG_NAME,
     log:

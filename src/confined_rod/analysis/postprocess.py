@@ -60,7 +60,10 @@ def build(figure: str, fig_cfg: Mapping[str, Any], sims: Mapping[str, xr.Dataset
     meta = {"figure": figure, "kind": kind, "paper_figure": fig_cfg.get("paper_figure", "none"),
             "figure_title": fig_cfg.get("title", figure), "scenes": list(used),
             "scene_git_commits": sorted({str(d.attrs.get("git_commit", "unknown")) for d in sims.values()}),
-            "not_at_equilibrium": run_checks.join(inside), "left_out": run_checks.join(left_out)}
+            "not_at_equilibrium": run_checks.join(inside), "left_out": run_checks.join(left_out),
+            # the loading protocols of its runs (the claims table says which protocol decided a claim)
+            "protocols": ", ".join(sorted({str(d.attrs["protocol"]) for d in sims.values() if "protocol" in d.attrs}))
+            or "none"}
     systems = sorted({str(d.attrs.get("unit_system", "reduced")) for d in sims.values()})
     if len(systems) > 1:
         raise ValueError(f"figure {figure!r} mixes scenes of unit systems {', '.join(systems)}: its dataset can "

@@ -41,6 +41,18 @@ class Evidence:
                 runs += run_checks.not_at_equilibrium({key: self.sims[key]})
         return list(dict.fromkeys(runs))
 
+    def protocols(self) -> list[str]:
+        """The loading protocols of what has been read: of each simulation read, and of the runs
+        behind each dataset read (its attribute ``protocols``)."""
+        found: set[str] = set()
+        for what, key in self.touched:
+            if what == "dataset":
+                found.update(p for p in str(self.datasets[key].attrs.get("protocols", "none")).split(", ")
+                             if p != "none")
+            elif "protocol" in self.sims[key].attrs:
+                found.add(str(self.sims[key].attrs["protocol"]))
+        return sorted(found)
+
     def file(self, key: str) -> str:
         """The path of the simulation 'figure/scene' as the build has it (evidence strings)."""
         return self.files.get(key, sim_key_path(key))

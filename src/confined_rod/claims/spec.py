@@ -13,7 +13,10 @@ from .measures import MEASURES
 METHODS = ("derivation", "value", "measure", "not_testable")
 
 
-KEYS = {"id", "where", "claim", "paper", "paper_from", "test", "tolerance", "reading", "why", "format", "finding"}
+KEYS = {"id", "where", "label", "quantity", "claim", "paper", "paper_from", "test", "tolerance", "reading", "why",
+        "format", "finding"}
+#: a claim's label names it in the one-page results table: at most this many characters
+LABEL_CHARS = 40
 
 
 def _derivations():
@@ -49,9 +52,13 @@ def load(path: str | Path) -> list[dict[str, Any]]:
         unknown = set(c) - KEYS
         if unknown:
             raise ClaimError(f"{where} ({c.get('id')!r}): unknown keys {sorted(unknown)}")
-        for key in ("id", "where", "claim", "test"):
+        for key in ("id", "where", "label", "claim", "test"):
             if key not in c:
                 raise ClaimError(f"{where}: missing {key!r}")
+        for key, limit in (("label", LABEL_CHARS), ("quantity", LABEL_CHARS)):
+            if key in c and not (isinstance(c[key], str) and 0 < len(c[key]) <= limit):
+                raise ClaimError(f"{where} ({c['id']!r}): {key} = {c[key]!r}, expected a text of 1-{limit} characters "
+                                 f"(it is a cell of the results table)")
         if c["id"] in seen:
             raise ClaimError(f"{where}: duplicate id {c['id']!r}")
         if "finding" in c and c["finding"] not in titles:

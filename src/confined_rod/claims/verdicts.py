@@ -43,6 +43,10 @@ class Verdict:
     note: str = ""
     finding: str = ""           # the independent finding it belongs to (claims.yaml `finding`, default its id)
     part: str = ""              # of a "partly reproduced" claim: the part that holds (e.g. "at the loaded end")
+    label: str = ""             # a short name (claims.yaml `label`)
+    quantity: str = ""          # what the numbers of `paper` and `ours` are (claims.yaml `quantity`)
+    protocol: str = ""          # the loading protocols of the runs that decided it (", "-joined)
+    ours_error: float | None = None   # the standard error of ours_value, where the measure has one
 
 
 def fmt(value: float, spec: str | None = None) -> str:
@@ -86,7 +90,9 @@ def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
         verdict = None
     off = ev.unsettled()
     if off:
-        return unsettled_verdict(c, off)
+        verdict = unsettled_verdict(c, off)
+    verdict.label, verdict.quantity = str(c.get("label", c["id"])), str(c.get("quantity", ""))
+    verdict.protocol = ", ".join(ev.protocols())
     return verdict
 
 
@@ -114,7 +120,7 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
         paper_text = str(c["paper"])
         if isinstance(c["paper"], (int, float)) and not isinstance(c["paper"], bool):
             paper_value = float(c["paper"])
-    ours_value, note, part = None, "", ""
+    ours_value, note, part, ours_error = None, "", "", None
     if method == "not_testable":
         return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, "-", None, "", "not testable",
                        "-", reading, str(test.get("reason", "")), str(c.get("finding", cid)))
@@ -129,13 +135,13 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
             found = MEASURES[test["name"]](ev, test, cid)
             if not isinstance(found, Measured):
                 raise TypeError(f"measure {test['name']} returned {type(found).__name__}, not a Measured")
-            ours_value, holds, evidence, note, part = found
+            ours_value, holds, evidence, note, part, ours_error = found
             if part and holds is not False:
                 raise TypeError(f"measure {test['name']} names a part that holds ({part!r}) but does not "
                                 "find the claim as stated to fail")
         if math.isnan(ours_value) and holds is None:
             # the measure found no window that determines the quantity (the note says why): no value
-            ours, ours_value = NOT_DETERMINED, None
+            ours, ours_value, ours_error = NOT_DETERMINED, None, None
         elif not math.isfinite(ours_value):
             raise ClaimError(f"claim {cid!r}: the measured value is not finite ({evidence})")
         else:
@@ -150,9 +156,11 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
         verdict = "partly reproduced"
     else:
         verdict = ("reproduced under reading" if reading else "reproduced") if holds else "refuted"
+    if ours_error is not None and not (math.isfinite(ours_error) and ours_error >= 0):
+        raise ClaimError(f"claim {cid!r}: the measured standard error is {ours_error!r} ({evidence})")
     return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, ours, ours_value, _tolerance_text(tol),
                    verdict, evidence, reading, note, str(c.get("finding", cid)),
-                   part if verdict == "partly reproduced" else "")
+                   part if verdict == "partly reproduced" else "", ours_error=ours_error)
 
 
 def evaluate(claims: list[Mapping[str, Any]], ev: Evidence) -> list[Verdict]:
@@ -160,7 +168,7 @@ def evaluate(claims: list[Mapping[str, Any]], ev: Evidence) -> list[Verdict]:
 
 
 COLUMNS = ("id", "where", "claim", "paper", "ours", "verdict", "part", "tolerance", "reading", "evidence", "note",
-           "finding")
+           "finding", "label", "quantity", "ours_error", "protocol")
 
 
 #: a finding's verdict from its claims' (the paper's claims only: claims of ours, whose `where`
@@ -219,10 +227,13 @@ def to_dataset(verdicts: list[Verdict], titles: Mapping[str, str] | None = None)
         ("where", "section, equation or figure of the original"), ("claim", "what the paper says"),
         ("paper", "the paper's value as printed"), ("ours", "our value"),
         ("verdict", ", ".join(VERDICTS)), ("part", "of a partly reproduced claim: the part that holds"),
+        ("label", "short name of the claim"), ("quantity", "what the paper's value and ours are"),
+        ("protocol", "loading protocols of the runs that decided the claim"),
         ("tolerance", "tolerance deciding the verdict"), ("reading", "interpretation the verdict needs"),
         ("evidence", "dataset and variable, or derivation, behind our value"), ("note", "how it was decided"),
         ("finding", "the independent finding the claim belongs to"))}
-    for name, long in (("paper_value", "the paper's value"), ("ours_value", "our value")):
+    for name, long in (("paper_value", "the paper's value"), ("ours_value", "our value"),
+                       ("ours_error", "the standard error of our value")):
         data[name], data["has_" + name] = number(name, long)
     ds = xr.Dataset(data, coords={"claim": ("claim", np.array([v.id for v in verdicts], dtype=object),
                                             {"long_name": "claim id (paper/claims.yaml)", "units": "1"})})
@@ -247,5 +258,5 @@ def to_csv(verdicts: list[Verdict]) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(COLUMNS)
     for v in verdicts:
-        w.writerow([getattr(v, c) for c in COLUMNS])
+        w.writerow(["" if getattr(v, c) is None else getattr(v, c) for c in COLUMNS])
     return buf.getvalue()

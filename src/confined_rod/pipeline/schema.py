@@ -48,6 +48,9 @@ def figure_schema() -> dict[str, Any]:
             "kind": {"enum": kinds, "description": "figure kind: one module of src/confined_rod/analysis/figures"},
             "paper_figure": {"type": "integer", "minimum": 1, "maximum": 8},
             "title": {"type": "string", "minLength": 1},
+            "supplement": {"type": "boolean",
+                           "description": "print the figure in the manuscript's supplement, after the main text and "
+                                          "its figures (default false: in the main part)"},
             "defaults": {"$ref": "#/$defs/scene", "description": "parameters applied to every scene of this figure"},
             "scenes": {"type": "object", "propertyNames": {"pattern": f"^{layout.NAME_PATTERN}$"},
                        "additionalProperties": {"$ref": "#/$defs/scene"},

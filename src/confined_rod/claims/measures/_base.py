@@ -18,6 +18,9 @@ class Measured(NamedTuple):
     #: with holds False: the part of the claim that holds, where the claim as stated fails in
     #: another part (the verdict is then "partly reproduced", e.g. "at the loaded end")
     part: str = ""
+    #: the standard error of `value` where the measure has one (an ensemble mean over seeds):
+    #: the tables print the value with it
+    error: float | None = None
 
 
 Measure = Callable[[Evidence, Mapping[str, Any], str], Measured]
@@ -42,12 +45,12 @@ def _threshold_robust(test: Callable[[float], Measured]) -> Measured:
     """test(fall_min) at DEGENERATE_FALL, its verdict kept only if the same at every threshold
     of FALL_THRESHOLDS (else inconclusive, the note saying how it changes)."""
     results = {fm: test(fm) for fm in FALL_THRESHOLDS}
-    value, holds, evidence, note = results[DEGENERATE_FALL][:4]
+    value, holds, evidence, note, _, error = results[DEGENERATE_FALL]
     if len({r.holds for r in results.values()}) > 1:
         holds = None
         note += ("; the verdict depends on the fall below which a window does not determine a fit: "
                  + ", ".join(f"{_WORD[r.holds]} at {fm:.3g}x" for fm, r in results.items()))
-    return Measured(value, holds, evidence, note)
+    return Measured(value, holds, evidence, note, error=error)
 
 
 def _combine(parts: list[bool | None]) -> bool | None:

@@ -325,7 +325,7 @@ def local_decay_law(ev, spec, claim):
     |r - 1| <= tol, fails if |r - 1| - 2u > tol, else is undecided; value: the mean ratio over the
     parts. The note gives the spread over the single rods (every seed of every part) too."""
     law, tol = spec["law"], float(spec["tol"])
-    parts, notes, ratios, files, skipped, seen, rods = [], [], [], [], 0, {}, []
+    parts, notes, ratios, errs, files, skipped, seen, rods = [], [], [], [], [], 0, {}, []
     for fig in spec["figures"]:
         ds = ev.dataset(fig, claim)
         files.append(f"{dataset_path(fig)}")
@@ -346,6 +346,7 @@ def local_decay_law(ev, spec, claim):
             u = max(float(ds.bulk_decay_rate_err.values[i]), sd) / ref
             r = rate / ref
             ratios.append(r)
+            errs.append(u)
             if "bulk_decay_rate_member" in ds:
                 ok = ds.has_bulk_member.values[i] == 1
                 rods += list(ds.bulk_decay_rate_member.values[i][ok] / ref)
@@ -363,8 +364,10 @@ def local_decay_law(ev, spec, claim):
               f"outside +-{tol:g}")
     if skipped:
         note += f"; {skipped} runs without a bulk helix (short rods) not counted"
+    # the error of the mean over the parts from each part's own (independent ensembles)
+    err = float(np.sqrt(np.sum(np.square(errs)))) / len(errs)
     return Measured(float(np.mean(ratios)), _combine(parts), \
-        ", ".join(f + ":bulk_decay_rate, bulk_decay_rate_err, decay_rate_model" for f in files), note)
+        ", ".join(f + ":bulk_decay_rate, bulk_decay_rate_err, decay_rate_model" for f in files), note, error=err)
 
 
 def _printed_rates(ev, figures, claim) -> list[dict]:
@@ -530,8 +533,11 @@ def transmitted_decays(ev, spec, claim):
     frac = F / float(ds.attrs["load"])
     slope = float(np.log(F[-1] / F[-2]) / np.log(L[-1] / L[-2]))
     holds = bool(np.all(np.diff(F) < 0) and slope < -0.5)
-    return Measured(float(frac[-1]), holds, f"{dataset_path(spec['figure'])}:F_transmitted", \
-        f"F(L)/F(0) = {frac[-1]:.3g} at L/R = {L[-1]:g}; slope of the last two lengths {slope:.2f}")
+    seeds = int(ds["n_seeds"].values[-1]) if "n_seeds" in ds else 1
+    err = float(ds["F_sem"].values[-1]) / float(ds.attrs["load"]) if seeds > 1 else None
+    return Measured(float(frac[-1]), holds, f"{dataset_path(spec['figure'])}:F_transmitted, F_sem", \
+        f"F(L)/F(0) = {frac[-1]:.3g} at L/R = {L[-1]:g} (mean over {seeds} seeds); slope of the last two "
+        f"lengths {slope:.2f}", error=err)
 
 
 @measure

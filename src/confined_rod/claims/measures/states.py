@@ -39,7 +39,11 @@ def wall_force_coefficient(ev, spec, claim):
         raise ClaimError(f"claim {claim!r}: {ev.file(key)} has no helix on the wall")
     s_link = np.asarray(sim.s_link.values)[bulk]
     w = np.interp(s_link, np.asarray(sim.s_helix.values), np.abs(np.asarray(sim.dphi_ds.values)))
-    value = float(np.median(K[bulk] * EI / (R * F[bulk] ** 2)))
+    ratio = K[bulk] * EI / (R * F[bulk] ** 2)
+    value = float(np.median(ratio))
+    # one frictionless rod: no seeds, so the error is how far the bulk's two halves differ
+    halves = np.array_split(ratio, 2)
+    error = 0.5 * abs(float(np.median(halves[0])) - float(np.median(halves[1])))
     exact = float(np.median(1.0 / (4.0 * (1.0 - (R * w) ** 2))))
     dev_exact, dev_lowest = value / exact - 1.0, value / 0.25 - 1.0
     confirmed = ("the exact constant-pitch relation" if abs(dev_exact) < abs(dev_lowest)
@@ -48,7 +52,8 @@ def wall_force_coefficient(ev, spec, claim):
             f"{100 * dev_exact:+.2f} %; lowest order 1/4: {100 * dev_lowest:+.3g} %; the paper's 1/2: "
             f"{100 * (value / 0.5 - 1):+.3g} %. The data confirm {confirmed}")
     return Measured(value, True, (f"{ev.file(key)}:wall_force_density, F_z, dphi_ds "
-                         "(medians over the middle half of the contact)"), note)
+                         "(medians over the middle half of the contact)"),
+                    note + "; error: half the difference of the medians of the two halves of the bulk", error=error)
 
 
 @measure
@@ -257,9 +262,11 @@ def fold_threshold_exists(ev, spec, claim):
     ds = ev.dataset(spec["figure"], claim)
     lo, hi = (float(v) for v in np.asarray(ds.attrs["fold_threshold_range"]).ravel()[:2])
     limit = float(ds.attrs["helix_limit"])
+    # the error: half the range of the thresholds over the rods measured (a single rod: its bracket)
     return Measured(0.5 * (lo + hi), hi < limit, \
         f"{dataset_path(spec['figure'])}:attrs fold_threshold_range, helix_limit", \
-        f"fold thresholds {lo:.3g}-{hi:.3g} EI/R^2, helix limit {limit:.3g}")
+        f"fold thresholds {lo:.3g}-{hi:.3g} EI/R^2 (the value: the middle of that range +- half of it), helix "
+        f"limit {limit:.3g}", error=0.5 * (hi - lo))
 
 
 @measure

@@ -162,7 +162,7 @@ def pitch_exponent(ev, spec, claim):
     per = [pitch_profile.build({}, {k: d}) for k, d in rods]
 
     def windows(fall_min):
-        oks, texts, value = [], [], math.nan
+        oks, texts, value, err = [], [], math.nan, None
         for name in ("whole", "bulk"):
             e = np.array([float(p[f"exponent_omega_F_{name}"]) for p in per])
             ok = np.array([float(p[f"fall_{name}"]) >= fall_min for p in per]) & np.isfinite(e)
@@ -176,14 +176,14 @@ def pitch_exponent(ev, spec, claim):
             texts.append(f"{name}: mean {m:.3f} +- {u:.2g} (s.e.) over {int(ok.sum())} seeds, per seed "
                          + ", ".join(f"{x:.3f}" for x in e[ok]))
             if name == "bulk":
-                value = m
-        return Measured(value, _two_windows(*oks), "", "; ".join(texts))
+                value, err = m, (u if ok.sum() > 1 else None)
+        return Measured(value, _two_windows(*oks), "", "; ".join(texts), error=err)
 
-    value, holds, _, note = _threshold_robust(windows)[:4]
+    value, holds, _, note, _, err = _threshold_robust(windows)
     return Measured(value, holds, \
         ", ".join(ev.file(k) for k, _ in rods) + ":dphi_ds, F_z", \
         note + f" (expected {target:g} +- {tol:g}: holds within it, fails beyond it by more than twice the "
-               "standard error of the mean)")
+               "standard error of the mean)", error=err if math.isfinite(value) else None)
 
 
 @measure
