@@ -30,8 +30,8 @@ with logged(sm.log[0]):
     write_text(paper.readings_table(verdicts), sm.output.readings)
     write_text(paper.results_table(verdicts), sm.output.results)
     extra = set(sm.params.supplement)
-    for part, names in ((sm.output.figures, [f for f in order if f[0] not in extra]),
-                        (sm.output.supplement_figures, [f for f in order if f[0] in extra])):
-        write_text(paper.figures_tex(names, sm.params.captions, datasets, sm.params.config_name), part)
+    for part, names, placement in ((sm.output.figures, [f for f in order if f[0] not in extra], "tp"),
+                                   (sm.output.supplement_figures, [f for f in order if f[0] in extra], "p")):
+        write_text(paper.figures_tex(names, sm.params.captions, datasets, sm.params.config_name, placement), part)
     write_text(paper.write_expected(macros, len(order), verdicts), sm.output.expected)
     print(f"{len(verdicts)} claims, {len(macros.items)} macros, {len(order)} figures")
