@@ -413,9 +413,12 @@ def _plot_profiles(ds: xr.Dataset, ax_f, ax_t) -> None:
     ax_t.plot([], [], "o", ms=2.5, mfc="none", mec="0.3", label="local helix")
     ax_t.set_xlabel(label("s"), fontsize=8)
     ax_t.set_ylabel(r"axial torque $\tau\,\mathrm{sgn}\,w\,/\,\tau_0(s)$", fontsize=8)
+    ax_t.plot([], [], " ", label="colours as in (f)")
     lo, hi = ax_t.get_ylim()
-    ax_t.set_ylim(lo, hi + 0.3 * (hi - lo))
-    ax_t.legend(fontsize=7, loc="upper center", handlelength=1.0, ncol=2, columnspacing=0.5, handletextpad=0.4)
+    # headroom above the curves for the key (three rows), so that it covers no data
+    ax_t.set_ylim(lo, hi + 0.75 * (hi - lo))
+    ax_t.legend(fontsize=7, loc="upper left", handlelength=1.0, handletextpad=0.4, borderaxespad=0.3,
+                framealpha=0.9)
 
 
 def _plot_formation(ds: xr.Dataset, ax) -> None:
