@@ -521,23 +521,53 @@ def _plot_local_law(ax, d, s) -> None:
 #: the data, the free corners and the log range all of them
 DATA_CURVES = ("F_abs", "F_fit", "F_paper_fit", "F_abs_min", "F_abs_max")
 CURVES = DATA_CURVES + ("F_simple", "F_simple_paper")
-LOG_SPAN = 30.0     # data spanning more than this factor are drawn on a log axis
+LOG_SPAN = 5.0      # data spanning more than this factor are drawn on a log axis
 TEXT_ROOM = 0.46    # share of the panel height two stacked text blocks take (six lines at 7.5 pt)
+LINE_ROOM = TEXT_ROOM / 6
 
 
-def _y_range(ax, ds: xr.Dataset) -> tuple[float, float]:
-    """One y range for every panel: linear from 0 where the data span less than LOG_SPAN (about
-    a decade: a log axis would leave most of the panel empty), else logarithmic over all curves
-    with room below them for the text blocks. Returns the limits set."""
-    def positive(keys):
-        v = np.concatenate([np.ravel(ds[k].values) for k in keys if k in ds])
-        return v[np.isfinite(v) & (v > 0)]
-    data, every = positive(DATA_CURVES), positive(CURVES)
+#: the text blocks stand over the part of a panel from this share of its length on
+TEXT_FROM = 0.3
+
+
+def _drawn(ds: xr.Dataset, keys, s_from: float = 0.0) -> np.ndarray:
+    """The positive values of the curves `keys` as the panels draw them (from s_from times the
+    rod's length on): our fit only over its window and only where it determines c, the paper's
+    fit only where the panel has one."""
+    out = []
+    s = ds["s"].values
+    part = s >= s_from * s[-1]
+    for i in range(ds.sizes["panel"]):
+        d = ds.isel(panel=i)
+        for k in keys:
+            if k not in d or (k == "F_paper_fit" and not int(d.has_paper_fit)):
+                continue
+            v = np.ravel(d[k].values)
+            keep = part.copy()
+            if k == "F_fit":
+                if undetermined(float(d.fit_c), float(d.fall_whole)):
+                    continue
+                keep &= np.ravel(d["in_fit"].values) == 1
+            out.append(v[keep])
+    v = np.concatenate(out) if out else np.array([1.0])
+    return v[np.isfinite(v) & (v > 0)]
+
+
+def _y_range(ax, ds: xr.Dataset, room: float = TEXT_ROOM) -> tuple[float, float]:
+    """One y range for every panel: linear from 0 where the data span less than LOG_SPAN (a log
+    axis would leave most of the panel empty), else logarithmic over every drawn
+    curve, with the lowest curve `room` (the share of the height the text blocks take, and a
+    margin) above the bottom, so that the text below the curves covers none. Returns the limits
+    set."""
+    data, every = _drawn(ds, DATA_CURVES), _drawn(ds, CURVES)
     if float(data.max()) / float(data.min()) < LOG_SPAN:
-        ax.set_ylim(0.0, 1.12 * float(every.max()))
+        # room above the curves where the text blocks stand
+        ax.set_ylim(0.0, max(1.12 * float(every.max()), float(_drawn(ds, CURVES, TEXT_FROM).max()) / (0.97 - room)))
     else:
         ax.set_yscale("log")
-        ax.set_ylim(0.02 * float(every.min()), 1.15 * float(every.max()))
+        hi, low = 1.3 * float(every.max()), float(every.min())
+        r = min(room + 0.04, 0.7)
+        ax.set_ylim(low * (low / hi) ** (r / (1.0 - r)), hi)
         P.plain_log_ticks(ax.yaxis)
     return ax.get_ylim()
 
@@ -545,7 +575,7 @@ def _y_range(ax, ds: xr.Dataset) -> tuple[float, float]:
 def _free_corner(d: xr.Dataset, s: np.ndarray, ylim: tuple[float, float], room: float) -> str:
     """'top' or 'bottom': where on the right half of a linear panel its curves leave `room`
     (a share of the height) free; else the freer of the two."""
-    right = s >= 0.45 * s[-1]
+    right = s >= TEXT_FROM * s[-1]
     vals = np.concatenate([d[k].values[right] for k in CURVES if k in d])
     vals = vals[np.isfinite(vals)]
     lo, hi = ylim
@@ -569,6 +599,14 @@ def _determined_seeds(d: xr.Dataset) -> tuple[int, int]:
     return int(determined(d["fit_c_member"].values, d["fall_whole_member"].values, has).sum()), int(has.sum())
 
 
+def _text_room(ds: xr.Dataset, wide: bool) -> float:
+    """The share of a panel's height its text blocks take: ours (up to four lines with seeds)
+    and the paper's (three), stacked in narrow panels, side by side in a wide one."""
+    ours = 4 if "shown_seed" in ds else 3
+    paper = 3 if int(ds["has_paper_fit"].values.max()) else 0
+    return LINE_ROOM * (max(ours, paper) if wide else ours + paper)
+
+
 def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
     """Our fit and transmitted fraction (red) and the paper's printed numbers (orange) in the
     corner of the right half that the curves leave free; a wide single panel holds the two
@@ -577,7 +615,7 @@ def _profile_texts(ax, d: xr.Dataset, seeds: bool, wide: bool, ylim) -> None:
     s = d["s"].values
     log = ax.get_yscale() == "log"
     # three lines of 7.5 pt a block: side by side they take TEXT_ROOM / 2 of the height
-    corner = "bottom" if log else _free_corner(d, s, ylim, TEXT_ROOM / (2 if wide else 1))
+    corner = "bottom" if log else _free_corner(d, s, ylim, TEXT_ROOM / (2 if wide else 1))  # _y_range left room
     va, y0, step = ("top", 0.97, -0.23) if corner == "top" else ("bottom", 0.03, 0.23)
     why = undetermined(float(d.fit_c), float(d.fall_whole))
     lines = [f"$c = {float(d.fit_c):.3f}$"] if not why else ["$c$ not determined", "(" + _math(why) + ")"]
@@ -629,7 +667,7 @@ def plot(ds: xr.Dataset):
         ax.plot(s, d["F_simple_paper"], **P.PAPER, label=r"paper's form, $K = RF^2/(2EI)$")
         if int(d.has_paper_fit):
             ax.plot(s, d["F_paper_fit"], **P.PAPER_FIT, label="paper's printed fit")
-        _profile_texts(ax, d, "shown_seed" in ds, n == 1, _y_range(ax, ds))
+        _profile_texts(ax, d, "shown_seed" in ds, n == 1, _y_range(ax, ds, _text_room(ds, n == 1)))
         ax.set_xlabel(label("s"))
         title = f"({chr(97 + i)})" if n > 1 else ""
         if p != "none":
