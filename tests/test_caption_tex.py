@@ -307,7 +307,7 @@ def test_the_tables_print_ours_with_its_error_and_quantity_and_the_protocol_in_w
     assert len(rows) == 3 and "full load at once" in rows[0] and r"\textbf{\mbox{inconclusive}}" in rows[0]
     assert r"rate/law = 0.961\ensuremath{\pm}0.017" in rows[0]
     assert "derivation" in rows[1] and r"Table~\ref{tab:claims}" in rows[1]       # too long for a cell
-    assert "3 compared" in rows[2]
+    assert "3 protocols" in rows[2]
     assert r"\label{tab:results}" in results and "The results: every claim" in results
     claims = paper.claims_table([v])
     assert "where (original)" in claims and r"rate/law = 0.961\ensuremath{\pm}0.017" in claims

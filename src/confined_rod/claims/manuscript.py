@@ -1044,7 +1044,7 @@ def _protocol_cell(v: Verdict) -> str:
     if not v.protocol:
         return "derivation" if "derivations" in v.evidence else "--"
     names = [PROTOCOL_NAMES.get(p, p) for p in v.protocol.split(", ")]
-    return tex_escape("; ".join(names) if len(names) <= 2 else f"{len(names)} compared")
+    return tex_escape("; ".join(names) if len(names) <= 2 else f"{len(names)} protocols")
 
 
 def results_table(verdicts: Iterable[Verdict]) -> str:
