@@ -302,12 +302,13 @@ def test_the_tables_print_ours_with_its_error_and_quantity_and_the_protocol_in_w
     results = paper.results_table([v, _verdict(id="y", protocol="", evidence="confined_rod.claims.derivations.x",
                                                 paper="EI R w^2 [-sqrt(1-R^2w^2) e_phi + R w e_z]", quantity="",
                                                 verdict="reproduced", ours_error=None),
-                                   _verdict(id="z", protocol="helix, ramp, straight")])
+                                   _verdict(id="z", protocol="helix, ramp, straight",
+                                            quantity="a quantity of thirty-odd chars")])
     rows = [r for r in results.splitlines() if r.startswith("C")]
     assert len(rows) == 3 and "full load at once" in rows[0] and r"\textbf{\mbox{inconclusive}}" in rows[0]
     assert r"rate/law = 0.961\ensuremath{\pm}0.017" in rows[0]
     assert "derivation" in rows[1] and r"Table~\ref{tab:claims}" in rows[1]       # too long for a cell
-    assert "3 protocols" in rows[2]
+    assert "3 protocols" in rows[2] and r"a quantity of thirty-odd chars = 0.961\ensuremath{\pm}0.017" in rows[2]
     assert r"\label{tab:results}" in results and "The results: every claim" in results
     claims = paper.claims_table([v])
     assert "where (original)" in claims and r"rate/law = 0.961\ensuremath{\pm}0.017" in claims

@@ -1050,14 +1050,16 @@ def _protocol_cell(v: Verdict) -> str:
 def results_table(verdicts: Iterable[Verdict]) -> str:
     """The one-page results table of the main text: every claim by its label, the paper's value
     and ours (with the quantity and the standard error where there is one), the loading protocol
-    of the runs that decided it, and the verdict; a value too long for the page is in the claims
-    table (same row label C<n>)."""
+    of the runs that decided it, and the verdict; a text too long for the page (a formula) is in
+    the claims table (same row label C<n>), a number never."""
     rows = []
     for i, v in enumerate(verdicts, 1):
         cells = []
         for text in (v.paper, ours_text(v)):
             tex, plain = _value_cell(text, v.quantity)
-            cells.append(tex if len(plain) <= RESULT_CELL_CHARS else r"Table~\ref{tab:claims}")
+            # a number is always shown; a long text (a formula) is in the claims table
+            number = is_number(text.split(" ")[0])
+            cells.append(tex if number or len(plain) <= RESULT_CELL_CHARS else r"Table~\ref{tab:claims}")
         rows.append(rf"C{i} & {tex_escape(v.label)} & {cells[0]} & {cells[1]} & {_protocol_cell(v)} & "
                     rf"{_verdict_cell(v)} \\")
     col = r">{\raggedright\arraybackslash}p"
