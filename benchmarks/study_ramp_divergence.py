@@ -157,9 +157,17 @@ def main() -> None:
                "parting_load_over_full": [p["load_over_full"] for p in parted],
                "parting_stage_tol": [p["stage_tol"] for p in parted],
                "no_parting_found": [x["seed"] for x in differ if not x["parting"]]}
+    lo = [p["load_over_euler"] for p in parted]
+    macros = {"seeds": str(a.seeds), "steps": f"{a.steps[0]} and {a.steps[1]}",
+              "differ": f"{len(differ)} of {a.seeds}",
+              "parting": (f"{min(lo):.3g} to {max(lo):.3g} times Euler's load" if len(lo) > 1 else
+                          f"{lo[0]:.3g} times Euler's load" if lo else "nowhere along the ramp"),
+              "parting_full": (f"{min(p['load_over_full'] for p in parted):.2g} to "
+                               f"{max(p['load_over_full'] for p in parted):.2g} of the full load"
+                               if parted else "none")}
     out = {"setup": "Fig 4(b)'s rod: " + ", ".join(f"{k} {v}" for k, v in ROD.items())
            + f"; ramps of {a.steps[0]} and {a.steps[1]} loads from the same straight start per seed; one core per run",
-           "provenance": provenance(), "summary": summary, "seeds": seeds,
+           "provenance": provenance(), "summary": summary, "macros": macros, "seeds": seeds,
            "runs": [{k: r[k] for k in ("seed", "steps", "wall_s")} | {"stages": r["stages"]} for r in runs]}
     path = Path(a.output)
     path = path if path.is_absolute() else Path.cwd() / path

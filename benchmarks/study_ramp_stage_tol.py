@@ -95,10 +95,18 @@ def main() -> None:
             row["seeds_changing_loose_state"] = [s for s in by[f] if
                                                  by[f][s].get("loosely_wound") != by[ref][s].get("loosely_wound")]
         summary[f"{f:g}"] = row
+    macros = {"loose": ", ".join(f"{summary[f'{f:g}']['loosely_wound']} of {summary[f'{f:g}']['runs']} at "
+                                 f"{f:g}x" for f in a.factors),
+              "seeds": str(a.seeds), "factors": ", ".join(f"{f:g}" for f in a.factors)}
+    for f in a.factors[1:]:
+        row = summary[f"{f:g}"]
+        macros[f"shift_x{f:g}"] = (f"{100 * row['F_transmitted_paired_shift']:+.0f} +- "
+                                   f"{100 * row['F_transmitted_shift_95'] / 1.96:.0f} %")
     out = {"setup": "Fig 4(b)'s rod: " + ", ".join(f"{k} {v}" for k, v in ROD.items())
            + f", ramp of {a.ramp_steps} loads; every intermediate stage held to factor x its tolerance "
            "(module docstring); one core per run",
            "stage_tolerance_at_load": stage_tol, "provenance": provenance(), "reference_factor": ref,
+           "macros": macros,
            "summary": summary, "runs": runs}
     path = Path(a.output)
     path = path if path.is_absolute() else Path.cwd() / path

@@ -755,7 +755,8 @@ def dataset_macros(datasets: Mapping[str, xr.Dataset], macros: Macros) -> None:
 def study_macros(paths: Iterable[str], macros: Macros) -> None:
     """The studies outside the build whose files the manuscript cites (benchmarks/results/
     study_<name>.json): \val{study.<name>.seeds}, the seeds that reached equilibrium on every
-    rung of the study (its paired ensemble), or the seed count it states."""
+    rung of the study (its paired ensemble), or the seed count it states; and the summary texts
+    it writes under "macros" (\val{study.<name>.<key>})."""
     for path in sorted(paths):
         name = Path(path).stem.removeprefix("study_")
         data = json.loads(Path(path).read_text())
@@ -766,6 +767,9 @@ def study_macros(paths: Iterable[str], macros: Macros) -> None:
             macros.add("val", f"study.{name}.seeds", str(len(set.intersection(*done))))
         elif isinstance(data.get("seeds"), int):
             macros.add("val", f"study.{name}.seeds", str(data["seeds"]))
+        # the summary sentences a study writes for the manuscript: \val{study.<name>.<key>}
+        for key, text in (data.get("macros") or {}).items():
+            macros.add_text("val", f"study.{name}.{key}", str(text))
 
 
 def _percent(x: float) -> str:
