@@ -678,7 +678,8 @@ def test_the_wall_force_pitch_law_compares_each_rod_with_its_own_pitch():
 
 @pytest.mark.parametrize("value, error, text", [
     (0.1003, 0.0051, "0.1003 +- 0.0051"), (112.3, 25.2, "112 +- 25"), (0.00332, 6.3e-5, "0.003320 +- 0.000063"),
-    (-3.02, 2.6, "-3.0 +- 2.6"), (0.289, 0.0, "0.289")])
+    (-3.02, 2.6, "-3.0 +- 2.6"), (0.289, 0.0, "0.289"),
+    (0.288849792, 2.5e-8, "0.2888 +- <0.0001")])        # an error below the fourth digit: a bound
 def test_a_value_is_rounded_with_its_error(value, error, text):
     assert paper.pm(value, error) == text
     macros = paper.Macros()

@@ -425,9 +425,14 @@ def caption_tex(text: str) -> str:
 def pm(value: float, error: float, sign: bool = False) -> str:
     """'value +- error' rounded together: the error to two significant digits, the value to the
     same decimal place ('0.1003 +- 0.0051', '112 +- 25', '+1.2 +- 0.83'); sign: a leading + on
-    positive values (shifts)."""
+    positive values (shifts). An error below 1e-4 of the value is given as a bound
+    ('0.2888 +- <0.0001')."""
     if not (error > 0 and math.isfinite(error)):
         return format(value, "+.3g" if sign else ".3g")
+    if value != 0 and error < 1e-4 * abs(value):
+        # an error below the fourth significant digit: the value to four digits, the error as a bound
+        unit = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
+        return f"{value:{'+' if sign else ''}.4g} +- <{unit:g}"
     decimals = max(0, 1 - int(math.floor(math.log10(error))))
     return f"{value:{'+' if sign else ''}.{decimals}f} +- {error:.{decimals}f}"
 
