@@ -215,13 +215,13 @@ def test_transmitted_force_dataset_and_figures(tmp_path):
 def test_captions_state_what_and_with_which_parameters():
     config = load(CONFIGS[0])
     c6 = pipeline.caption(config, "fig6_FonL")
-    assert "paper Fig. 6" in c6 and "L/R = 20, 40, 80, 160, 320, 640" in c6
+    assert "the paper's sixth figure" in c6 and "L/R = 20, 40, 80, 160, 320, 640" in c6
     assert "k_fr = 0.8" in c6 and "load |F_z(0)| = 0.25" in c6 and "l0 = 0.5" in c6 and "4EI" in c6
     c4 = pipeline.caption(config, "fig4_Fonl")
-    assert "paper Fig. 4" in c4 and "L/R = 320" in c4
+    assert "the paper's fourth figure" in c4 and "L/R = 320" in c4
     assert "(a) k_fr = 0.1; (b) k_fr = 0.3; (c) k_fr = 0.8" in c4
     c_map = pipeline.caption(config, "jamming_map")     # a figure the original does not have
-    assert "(not in the paper)" in c_map and "paper Fig" not in c_map
+    assert "(not in the paper)" in c_map and "paper's" not in c_map
 
 
 def test_logged_keeps_the_traceback(tmp_path):

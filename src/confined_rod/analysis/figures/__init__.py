@@ -96,8 +96,12 @@ def headlines(figure: str, ds) -> list:
     return list(fn(figure, ds)) if fn else []
 
 
+#: the original's figures named in words, so that a caption carries one numbering: ours
+ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
+
+
 def origin(fig_cfg) -> str:
-    """Where a figure comes from, for its title and caption: '(paper Fig. N)', or
+    """Where a figure comes from, for its title and caption: "(the paper's fourth figure)", or
     '(not in the paper)' for the figures this package adds (convergence, benchmarks, maps)."""
     n = fig_cfg.get("paper_figure")
-    return f"(paper Fig. {n})" if n is not None else "(not in the paper)"
+    return f"(the paper's {ORDINALS[int(n) - 1]} figure)" if n is not None else "(not in the paper)"
