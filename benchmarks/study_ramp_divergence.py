@@ -128,53 +128,79 @@ def parting(a: list[dict], b: list[dict]) -> dict | None:
     return None
 
 
+def _g(x: float) -> str:
+    """Three significant digits, no exponent ('91.5', '1359')."""
+    return f"{x:.3g}" if abs(x) < 1000 else f"{x:.0f}"
+
+
+def summarise(runs: list[dict], seeds_n: int, steps: list[int]) -> tuple[list, dict, dict]:
+    """Per seed: the final states of both ramps, whether they differ, where the paths part and
+    the largest jumps; the summary; the manuscript's summary texts."""
+    by = {(r["seed"], r["steps"]): r for r in runs}
+    seeds = []
+    for s in range(seeds_n):
+        ra, rb = by[(s, steps[0])]["stages"], by[(s, steps[1])]["stages"]
+        fa, fb = ra[-1], rb[-1]
+        differs = (fa["loose"] != fb["loose"]) or abs(fb["F_fraction"] / fa["F_fraction"] - 1) > 0.05
+        keys = ("F_fraction", "turns", "K_ratio", "loose")
+        seeds.append({"seed": s, "final": {str(steps[0]): {k: fa[k] for k in keys},
+                                           str(steps[1]): {k: fb[k] for k in keys}},
+                      "final_states_differ": bool(differs), "loose_state_differs": fa["loose"] != fb["loose"],
+                      "parting": parting(ra, rb) if differs else None,
+                      "jumps": {str(steps[0]): _jumps(ra), str(steps[1]): _jumps(rb)}})
+    differ = [x for x in seeds if x["final_states_differ"]]
+    parted = [x["parting"] for x in differ if x["parting"]]
+    summary = {"seeds": seeds_n, "steps": steps, "seeds_whose_final_state_differs": [x["seed"] for x in differ],
+               "seeds_whose_loose_state_differs": [x["seed"] for x in seeds if x["loose_state_differs"]],
+               "parting_load_over_euler": [p["load_over_euler"] for p in parted],
+               "parting_load_over_full": [p["load_over_full"] for p in parted],
+               "parting_stage_tol": [p["stage_tol"] for p in parted],
+               "no_parting_found": [x["seed"] for x in differ if not x["parting"]]}
+    # the stage at which each run's helix forms: its largest jump of the turns
+    jumps = [j for x in seeds for j in x["jumps"].values()]
+    size = [abs(j["turns_jump"]) for j in jumps]
+    at = [j["turns_jump_at_load_over_euler"] for j in jumps]
+    where = [j["turns_jump_s"] for j in jumps if j["turns_jump_s"] is not None]
+    lo = [p["load_over_euler"] for p in parted]
+    macros = {"seeds": str(seeds_n), "steps": f"{steps[0]} and {steps[1]}",
+              "differ": f"{len(differ)} of {seeds_n}",
+              "loose_differ": f"{len(summary['seeds_whose_loose_state_differs'])} of {seeds_n}",
+              "parting": (f"{_g(min(lo))} to {_g(max(lo))} times Euler's load" if len(lo) > 1 else
+                          f"{_g(lo[0])} times Euler's load" if lo else "nowhere along the ramp"),
+              "parting_full": (f"{min(p['load_over_full'] for p in parted):.2g} to "
+                               f"{max(p['load_over_full'] for p in parted):.2g} of the full load"
+                               if parted else "none"),
+              "jump_turns": f"{min(size):.2g} to {max(size):.2g}",
+              "jump_load": f"{_g(min(at))} to {_g(max(at))}",
+              "jump_s": f"{min(where):.0f} to {max(where):.0f}" if where else "none"}
+    return seeds, summary, macros
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=12)
     ap.add_argument("--steps", nargs=2, type=int, default=[256, 512])
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--summarise", metavar="JSON", help="summarise the runs of an earlier output again, run nothing")
     ap.add_argument("-o", "--output", default="benchmarks/results/study_ramp_divergence.json")
     a = ap.parse_args()
-    work = [(s, n) for s in range(a.seeds) for n in a.steps]
-    with Pool(a.jobs) as pool:
-        runs = pool.map(one, work)
-    by = {(r["seed"], r["steps"]): r for r in runs}
-    seeds = []
-    for s in range(a.seeds):
-        ra, rb = by[(s, a.steps[0])]["stages"], by[(s, a.steps[1])]["stages"]
-        fa, fb = ra[-1], rb[-1]
-        differs = (fa["loose"] != fb["loose"]) or abs(fb["F_fraction"] / fa["F_fraction"] - 1) > 0.05
-        keys = ("F_fraction", "turns", "K_ratio", "loose")
-        seeds.append({"seed": s, "final": {str(a.steps[0]): {k: fa[k] for k in keys},
-                                           str(a.steps[1]): {k: fb[k] for k in keys}},
-                      "final_states_differ": bool(differs),
-                      "parting": parting(ra, rb) if differs else None,
-                      "jumps": {str(a.steps[0]): _jumps(ra), str(a.steps[1]): _jumps(rb)}})
-    differ = [x for x in seeds if x["final_states_differ"]]
-    parted = [x["parting"] for x in differ if x["parting"]]
-    summary = {"seeds": a.seeds, "steps": a.steps, "seeds_whose_final_state_differs": [x["seed"] for x in differ],
-               "parting_load_over_euler": [p["load_over_euler"] for p in parted],
-               "parting_load_over_full": [p["load_over_full"] for p in parted],
-               "parting_stage_tol": [p["stage_tol"] for p in parted],
-               "no_parting_found": [x["seed"] for x in differ if not x["parting"]]}
-    lo = [p["load_over_euler"] for p in parted]
-    macros = {"seeds": str(a.seeds), "steps": f"{a.steps[0]} and {a.steps[1]}",
-              "differ": f"{len(differ)} of {a.seeds}",
-              "parting": (f"{min(lo):.3g} to {max(lo):.3g} times Euler's load" if len(lo) > 1 else
-                          f"{lo[0]:.3g} times Euler's load" if lo else "nowhere along the ramp"),
-              "parting_full": (f"{min(p['load_over_full'] for p in parted):.2g} to "
-                               f"{max(p['load_over_full'] for p in parted):.2g} of the full load"
-                               if parted else "none")}
+    if a.summarise:
+        old = json.loads(Path(a.summarise).read_text())
+        runs, a.seeds, a.steps, prov = old["runs"], old["summary"]["seeds"], old["summary"]["steps"], old["provenance"]
+    else:
+        with Pool(a.jobs) as pool:
+            runs = pool.map(one, [(s, n) for s in range(a.seeds) for n in a.steps])
+        prov = provenance()
+    seeds, summary, macros = summarise(runs, a.seeds, a.steps)
     out = {"setup": "Fig 4(b)'s rod: " + ", ".join(f"{k} {v}" for k, v in ROD.items())
            + f"; ramps of {a.steps[0]} and {a.steps[1]} loads from the same straight start per seed; one core per run",
-           "provenance": provenance(), "summary": summary, "macros": macros, "seeds": seeds,
+           "provenance": prov, "summary": summary, "macros": macros, "seeds": seeds,
            "runs": [{k: r[k] for k in ("seed", "steps", "wall_s")} | {"stages": r["stages"]} for r in runs]}
     path = Path(a.output)
     path = path if path.is_absolute() else Path.cwd() / path
     path.write_text(json.dumps(out, indent=1) + "\n")
     print(json.dumps(summary, indent=1))
-    for x in differ:
-        print(x["seed"], json.dumps(x["final"]), json.dumps(x["parting"]))
+    print(json.dumps(macros, indent=1))
 
 
 if __name__ == "__main__":
