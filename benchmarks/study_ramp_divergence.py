@@ -161,8 +161,12 @@ def summarise(runs: list[dict], seeds_n: int, steps: list[int]) -> tuple[list, d
     size = [abs(j["turns_jump"]) for j in jumps]
     at = [j["turns_jump_at_load_over_euler"] for j in jumps]
     where = [j["turns_jump_s"] for j in jumps if j["turns_jump_s"] is not None]
+    # how far the rod stays off the wall (an unstable straight equilibrium that a stage accepts)
+    straight = [max((d["load_over_euler"] for d in r["stages"] if d["contacts"] == 0), default=0.0) for r in runs]
+    summary["straight_until_load_over_euler"] = straight
     lo = [p["load_over_euler"] for p in parted]
     macros = {"seeds": str(seeds_n), "steps": f"{steps[0]} and {steps[1]}",
+              "straight_until": f"{_g(min(straight))} to {_g(max(straight))}",
               "differ": f"{len(differ)} of {seeds_n}",
               "loose_differ": f"{len(summary['seeds_whose_loose_state_differs'])} of {seeds_n}",
               "parting": (f"{_g(min(lo))} to {_g(max(lo))} times Euler's load" if len(lo) > 1 else
