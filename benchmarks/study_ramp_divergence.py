@@ -24,6 +24,7 @@ are relaxed; a parting near the full load at the slips of the last stages.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -70,8 +71,8 @@ def describe(scene: Scene, st, load: float, prev_phi: np.ndarray | None) -> tupl
     return out, phi_links
 
 
-def one(args: tuple[int, int]) -> dict:
-    seed, steps = args
+def one(args: tuple[int, int, int]) -> dict:
+    seed, steps, kicks = args
     sc = Scene(seed=seed, ramp_steps=steps, name=f"divergence/n{steps}-s{seed}", **ROD)
     stages: list[dict] = []
     prev = {"phi": None}
@@ -80,6 +81,11 @@ def one(args: tuple[int, int]) -> dict:
     def relax(scene, st, stepper, **kw):
         out = orig(scene, st, stepper, **kw)
         if kw.get("label", "").startswith(" ramp"):
+            if kicks:
+                # the experiment: a stage that stops on the straight saddle is kicked off it, as a
+                # run's end is (solvers.base.leave_saddles), so the ramp follows the buckled branch
+                base.leave_saddles(dataclasses.replace(scene, saddle_kicks=kicks), st, implicit.ImplicitStepper,
+                                   progress=False)
             d, prev["phi"] = describe(scene, st, float(scene.load), prev["phi"])
             d["stage_tol"] = float(scene.tol)
             stages.append(d)
@@ -186,6 +192,8 @@ def main() -> None:
     ap.add_argument("--steps", nargs=2, type=int, default=[256, 512])
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--summarise", metavar="JSON", help="summarise the runs of an earlier output again, run nothing")
+    ap.add_argument("--stage-kicks", type=int, default=0,
+                    help="kick a stage that stops on the straight saddle off it, up to this many times (experiment)")
     ap.add_argument("-o", "--output", default="benchmarks/results/study_ramp_divergence.json")
     a = ap.parse_args()
     if a.summarise:
@@ -193,11 +201,13 @@ def main() -> None:
         runs, a.seeds, a.steps, prov = old["runs"], old["summary"]["seeds"], old["summary"]["steps"], old["provenance"]
     else:
         with Pool(a.jobs) as pool:
-            runs = pool.map(one, [(s, n) for s in range(a.seeds) for n in a.steps])
+            runs = pool.map(one, [(s, n, a.stage_kicks) for s in range(a.seeds) for n in a.steps])
         prov = provenance()
     seeds, summary, macros = summarise(runs, a.seeds, a.steps)
     out = {"setup": "Fig 4(b)'s rod: " + ", ".join(f"{k} {v}" for k, v in ROD.items())
-           + f"; ramps of {a.steps[0]} and {a.steps[1]} loads from the same straight start per seed; one core per run",
+           + f"; ramps of {a.steps[0]} and {a.steps[1]} loads from the same straight start per seed; one core per run"
+           + (f"; every stage that stops on the straight saddle kicked off it (up to {a.stage_kicks} kicks)"
+              if a.stage_kicks else ""),
            "provenance": prov, "summary": summary, "macros": macros, "seeds": seeds,
            "runs": [{k: r[k] for k in ("seed", "steps", "wall_s")} | {"stages": r["stages"]} for r in runs]}
     path = Path(a.output)
