@@ -284,6 +284,12 @@ def test_the_supplement_figures_come_after_the_main_ones_in_one_numbering():
         assert all(numbered[k] == k for k in numbered if k), (name, main)
 
 
+def test_every_protocol_has_a_name_in_the_results_table():
+    from confined_rod.quantities import QUANTITIES
+
+    assert set(paper.PROTOCOL_NAMES) == set(QUANTITIES["protocol"].choices)
+
+
 def _verdict(**kw):
     from confined_rod.claims import Verdict
     base = dict(id="x", where="Fig. 6", claim="c", paper="0.5", paper_value=0.5, ours="0.961", ours_value=0.961,

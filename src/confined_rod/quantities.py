@@ -60,11 +60,6 @@ RUN_STATUS = ("converged", "time_cap", "escaped", "model_violated", "step_cap")
 PROBE_STATUS = RUN_STATUS[:3] + ("diverged", "invalid") + RUN_STATUS[3:]
 
 
-#: the loading protocols (scene parameter ``protocol``) and their names in tables
-PROTOCOL_NAMES = {"straight": "full load at once", "planar": "planar", "planar_then_3d": "planar, then 3-D",
-                  "ramp": "load ramp", "helix": "helical start"}
-
-
 def _param(name, symbol, long_name, units, schema):
     return Quantity(name, symbol, long_name, units, schema)
 
@@ -91,7 +86,7 @@ SCENE_PARAMETERS = [
     _param("floor", "", "the lower piston at z = 0 is a wall for the whole rod", "1", {"type": "boolean"}),
     _param("protocol", "", "start and loading: straight rod + 3-D perturbation at the full load, planar, planar "
            "then 3-D, a quasi-static load ramp (ramp), or a one-handed helix on the wall (helix)", "1",
-           {"enum": list(PROTOCOL_NAMES)}),
+           {"enum": ["straight", "planar", "planar_then_3d", "ramp", "helix"]}),
     _param("perturbation", "a", "amplitude of the random lateral displacement of the start", "R",
            _NONNEG_OR_DEFAULT),
     _param("kick", "a_{3D}", "out-of-plane perturbation of the second stage of planar_then_3d", "R",
