@@ -154,6 +154,11 @@ def test_transmitted_decay_needs_a_continuing_decrease():
     ds = xr.Dataset({"F_transmitted": ("L", [0.1, 0.05, 0.025])}, coords={"L": L}, attrs={"load": 0.25})
     value, holds, _, _, *_ = claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ds}), {"figure": "f"}, "x")
     assert holds and value == pytest.approx(0.1)                       # slope -1
+    assert claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ds}), {"figure": "f"}, "x").error is None
+    # an ensemble: the standard error of the longest rod's mean over the load
+    ens = ds.assign(n_seeds=("L", [5, 5, 5]), F_sem=("L", [0.004, 0.003, 0.002]))
+    assert claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ens}), {"figure": "f"}, "x").error == \
+        pytest.approx(0.002 / 0.25)
     ds["F_transmitted"] = ("L", [0.1, 0.06, 0.05])                      # levelling off: slope -0.26
     assert not claims.MEASURES["transmitted_decays"](claims.Evidence({"f": ds}), {"figure": "f"}, "x")[1]
 
@@ -398,9 +403,13 @@ def _law_fig(ratios, errs, has=None):
 ])
 def test_local_decay_law_verdict(ratios, errs, law, verdict):
     ev = claims.Evidence({"f": _law_fig(ratios, errs)})
-    value, holds, _, note, *_ = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": law, "tol": 0.1}, "x")
+    value, holds, _, note, _, error = claims.MEASURES["local_decay_law"](ev, {"figures": ["f"], "law": law, "tol": 0.1},
+                                                                          "x")
     assert {True: "reproduced", False: "refuted", None: "inconclusive"}[holds] == verdict, note
     assert value == pytest.approx(np.mean(ratios) / (1 if law == "corrected" else 2))
+    # the error of the mean of independent parts, each with its own: sqrt(sum u^2)/n (in units of the law)
+    scale = 1 if law == "corrected" else 2
+    assert error == pytest.approx(np.sqrt(np.sum(np.square(errs))) / len(errs) / scale)
 
 
 def test_local_decay_law_skips_lengths_without_a_bulk():
