@@ -175,8 +175,8 @@ def summarise(runs: list[dict], seeds_n: int, steps: list[int]) -> tuple[list, d
               "straight_until": f"{_g(min(straight))} to {_g(max(straight))}",
               "differ": f"{len(differ)} of {seeds_n}",
               "loose_differ": f"{len(summary['seeds_whose_loose_state_differs'])} of {seeds_n}",
-              "parting": (f"{_g(min(lo))} to {_g(max(lo))} times Euler's load" if len(lo) > 1 else
-                          f"{_g(lo[0])} times Euler's load" if lo else "nowhere along the ramp"),
+              "parting": (f"{_g(min(lo))} to {_g(max(lo))} times the Euler load" if len(lo) > 1 else
+                          f"{_g(lo[0])} times the Euler load" if lo else "nowhere along the ramp"),
               "parting_full": (f"{min(p['load_over_full'] for p in parted):.2g} to "
                                f"{max(p['load_over_full'] for p in parted):.2g} of the full load"
                                if parted else "none"),
@@ -199,15 +199,17 @@ def main() -> None:
     if a.summarise:
         old = json.loads(Path(a.summarise).read_text())
         runs, a.seeds, a.steps, prov = old["runs"], old["summary"]["seeds"], old["summary"]["steps"], old["provenance"]
+        setup = old["setup"]
     else:
         with Pool(a.jobs) as pool:
             runs = pool.map(one, [(s, n, a.stage_kicks) for s in range(a.seeds) for n in a.steps])
         prov = provenance()
+        setup = ("Fig 4(b)'s rod: " + ", ".join(f"{k} {v}" for k, v in ROD.items())
+                 + f"; ramps of {a.steps[0]} and {a.steps[1]} loads from the same straight start per seed; one core "
+                 "per run" + (f"; every stage that stops on the straight saddle kicked off it (up to {a.stage_kicks} "
+                              "kicks)" if a.stage_kicks else ""))
     seeds, summary, macros = summarise(runs, a.seeds, a.steps)
-    out = {"setup": "Fig 4(b)'s rod: " + ", ".join(f"{k} {v}" for k, v in ROD.items())
-           + f"; ramps of {a.steps[0]} and {a.steps[1]} loads from the same straight start per seed; one core per run"
-           + (f"; every stage that stops on the straight saddle kicked off it (up to {a.stage_kicks} kicks)"
-              if a.stage_kicks else ""),
+    out = {"setup": setup,
            "provenance": prov, "summary": summary, "macros": macros, "seeds": seeds,
            "runs": [{k: r[k] for k in ("seed", "steps", "wall_s")} | {"stages": r["stages"]} for r in runs]}
     path = Path(a.output)
