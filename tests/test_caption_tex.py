@@ -303,7 +303,7 @@ def test_the_tables_print_ours_with_its_error_and_quantity_and_the_protocol_in_w
     assert paper.ours_text(v) == "0.961 +- 0.017"                  # rounded together
     assert paper.ours_text(_verdict(ours_error=None)) == "0.961"
     tex, plain = paper._value_cell(paper.ours_text(v), v.quantity)
-    assert plain == "rate/law = 0.961 +- 0.017" and r"\ensuremath{\pm}" in tex
+    assert plain == "rate/law = 0.961+-0.017" and r"\ensuremath{\pm}" in tex
     assert paper._value_cell("falls, less than |F_z|", "drop")[1] == "falls, less than |F_z|"   # text: as it is
     results = paper.results_table([v, _verdict(id="y", protocol="", evidence="confined_rod.claims.derivations.x",
                                                 paper="EI R w^2 [-sqrt(1-R^2w^2) e_phi + R w e_z]", quantity="",
@@ -319,7 +319,7 @@ def test_the_tables_print_ours_with_its_error_and_quantity_and_the_protocol_in_w
     claims = paper.claims_table([v])
     assert "where (original)" in claims and r"rate/law = 0.961\ensuremath{\pm}0.017" in claims
     expected = json.loads(paper.write_expected(paper.Macros(), 1, [v]))["claims"][0]
-    assert expected["ours"] == "0.961 +- 0.017" and expected["paper"] == "0.5"
+    assert expected["ours"] == "0.961+-0.017" and expected["paper"] == "0.5"
     macros = paper.Macros()
     paper.claim_macros([v], macros)
     assert macros.expected()["ours@x"] == "0.961+-0.017"

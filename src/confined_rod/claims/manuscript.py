@@ -422,6 +422,13 @@ def caption_tex(text: str) -> str:
     return _CaptionParser(text).convert()
 
 
+def pm_tex(text: str) -> tuple[str, str]:
+    """A 'value +- error' of pm() as LaTeX, with a real plus-minus sign, and as the plain text
+    pdftotext gives back after normalize() ('0.961+-0.017')."""
+    (t, p), (t2, p2) = (tex_value(x) for x in text.split(" +- "))
+    return rf"{t}\ensuremath{{\pm}}{t2}", f"{p}+-{p2}"
+
+
 def pm(value: float, error: float, sign: bool = False) -> str:
     """'value +- error' rounded together: the error to two significant digits, the value to the
     same decimal place ('0.1003 +- 0.0051', '112 +- 25', '+1.2 +- 0.83'); sign: a leading + on
@@ -467,9 +474,7 @@ class Macros:
         for mean, sd in values:
             t, p = tex_value(format(mean, spec))
             if sd > 0:          # the value rounded with its error (pm)
-                m, e = pm(mean, sd).split(" +- ")
-                (t, p), (t2, p2) = tex_value(m), tex_value(e)
-                t, p = rf"{t}\ensuremath{{\pm}}{t2}", f"{p}+-{p2}"
+                t, p = pm_tex(pm(mean, sd))
             tex.append(t)
             plain.append(p)
         self.items[f"{family}@{_key(key)}"] = (family, ", ".join(tex) or "none", ", ".join(plain) or "none")
@@ -1003,8 +1008,7 @@ def _value_cell(text: str, quantity: str) -> tuple[str, str]:
     names one ('F(L)/F(0) = 0.0528'); a text as it is."""
     tex, plain = tex_value(text)
     if " +- " in text:
-        (tex, plain), (t2, p2) = (tex_value(x) for x in text.split(" +- "))
-        tex, plain = rf"{tex}\ensuremath{{\pm}}{t2}", f"{plain} +- {p2}"
+        tex, plain = pm_tex(text)
     elif not is_number(text):
         return tex, plain
     if quantity:
