@@ -996,8 +996,8 @@ def short_status(status: str, limit: int = STATUS_CHARS) -> str:
 
 
 def ours_text(v: Verdict) -> str:
-    """Our value as the tables and \\ours print it: with its standard error where the measure
-    has one, rounded together (pm)."""
+    """Our value as the tables and \\ours print it: with its error where the measure gives one,
+    rounded together (pm)."""
     if v.ours_error is not None and v.ours_value is not None and v.ours_error > 0:
         return pm(v.ours_value, v.ours_error)
     return v.ours

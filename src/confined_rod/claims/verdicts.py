@@ -45,8 +45,8 @@ class Verdict:
     part: str = ""              # of a "partly reproduced" claim: the part that holds (e.g. "at the loaded end")
     label: str = ""             # a short name (claims.yaml `label`)
     quantity: str = ""          # what the numbers of `paper` and `ours` are (claims.yaml `quantity`)
-    protocol: str = ""          # the loading protocols of the runs that decided it (", "-joined)
-    ours_error: float | None = None   # the standard error of ours_value, where the measure has one
+    protocol: str = ""          # the loading protocols of the datasets and runs it read (", "-joined)
+    ours_error: float | None = None   # the error of ours_value, where the measure gives one (its note says which)
 
 
 def fmt(value: float, spec: str | None = None) -> str:
@@ -157,7 +157,7 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
     else:
         verdict = ("reproduced under reading" if reading else "reproduced") if holds else "refuted"
     if ours_error is not None and not (math.isfinite(ours_error) and ours_error >= 0):
-        raise ClaimError(f"claim {cid!r}: the measured standard error is {ours_error!r} ({evidence})")
+        raise ClaimError(f"claim {cid!r}: the measured error is {ours_error!r} ({evidence})")
     return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, ours, ours_value, _tolerance_text(tol),
                    verdict, evidence, reading, note, str(c.get("finding", cid)),
                    part if verdict == "partly reproduced" else "", ours_error=ours_error)
@@ -228,12 +228,12 @@ def to_dataset(verdicts: list[Verdict], titles: Mapping[str, str] | None = None)
         ("paper", "the paper's value as printed"), ("ours", "our value"),
         ("verdict", ", ".join(VERDICTS)), ("part", "of a partly reproduced claim: the part that holds"),
         ("label", "short name of the claim"), ("quantity", "what the paper's value and ours are"),
-        ("protocol", "loading protocols of the runs that decided the claim"),
+        ("protocol", "loading protocols of the datasets and runs the claim read"),
         ("tolerance", "tolerance deciding the verdict"), ("reading", "interpretation the verdict needs"),
         ("evidence", "dataset and variable, or derivation, behind our value"), ("note", "how it was decided"),
         ("finding", "the independent finding the claim belongs to"))}
     for name, long in (("paper_value", "the paper's value"), ("ours_value", "our value"),
-                       ("ours_error", "the standard error of our value")):
+                       ("ours_error", "the error of our value the measure gives")):
         data[name], data["has_" + name] = number(name, long)
     ds = xr.Dataset(data, coords={"claim": ("claim", np.array([v.id for v in verdicts], dtype=object),
                                             {"long_name": "claim id (paper/claims.yaml)", "units": "1"})})

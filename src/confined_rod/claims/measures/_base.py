@@ -18,8 +18,8 @@ class Measured(NamedTuple):
     #: with holds False: the part of the claim that holds, where the claim as stated fails in
     #: another part (the verdict is then "partly reproduced", e.g. "at the loaded end")
     part: str = ""
-    #: the standard error of `value` where the measure has one (an ensemble mean over seeds):
-    #: the tables print the value with it
+    #: the error of `value` where the measure has one (the standard error of a mean over seeds; for
+    #: a single rod or a threshold the error its note names): the tables print the value with it
     error: float | None = None
 
 
