@@ -91,6 +91,17 @@ def test_relative_tolerance_and_paper_value_from_a_dataset():
         claims.evaluate_one(c, ev)
 
 
+def test_protocol_column_names_the_runs_read_where_a_dataset_mixes_protocols():
+    """Table I's protocol column: every protocol of what the claim read, or the claim's own
+    `protocol` list where it reads one kind of run from a dataset of several (each must be there)."""
+    ev = claims.Evidence({"f": _fig({"fit_c": [-0.92]}, {"protocols": "planar, planar_then_3d, straight"})})
+    assert claims.evaluate_one(_claim(), ev).protocol == "planar, planar_then_3d, straight"
+    assert claims.evaluate_one(_claim(protocol=["straight"]), ev).protocol == "straight"
+    with pytest.raises(claims.ClaimError, match=r"protocol = \['ramp'\], but the runs it read have planar, "
+                                                r"planar_then_3d, straight \(not ramp\)"):
+        claims.evaluate_one(_claim(protocol=["ramp"]), ev)
+
+
 @pytest.mark.parametrize("change, message", [
     ({"test": {"method": "measure", "name": "no_such"}}, "test.name = 'no_such' is not a measure"),
     ({"test": {"method": "derivation", "name": "no_such"}}, "is not a derivation"),
@@ -98,6 +109,7 @@ def test_relative_tolerance_and_paper_value_from_a_dataset():
     ({"paper": "about ten"}, "a tolerance needs a numeric paper value"),
     ({"tolerance": {"rel": -1}}, "tolerance = {'rel': -1}"),
     ({"colour": "red"}, "unknown keys \\['colour'\\]"),
+    ({"protocol": "straight"}, "protocol = 'straight', expected a list of the loading protocols"),
 ])
 def test_a_malformed_claim_is_refused_when_the_file_is_read(tmp_path, change, message):
     import yaml
@@ -410,6 +422,26 @@ def test_local_decay_law_verdict(ratios, errs, law, verdict):
     # the error of the mean of independent parts, each with its own: sqrt(sum u^2)/n (in units of the law)
     scale = 1 if law == "corrected" else 2
     assert error == pytest.approx(np.sqrt(np.sum(np.square(errs))) / len(errs) / scale)
+
+
+def test_inconclusive_local_decay_law_names_the_undecided_parts():
+    """An inconclusive verdict says which parts leave it undecided (printed beside the verdict)."""
+    ds = _law_fig([0.95, 0.84, 0.97], [0.03, 0.10, 0.05])
+    ds.attrs["paper_figure"] = "6"
+    found = claims.MEASURES["local_decay_law"](claims.Evidence({"f": ds}), {"figures": ["f"], "law": "corrected",
+                                                                             "tol": 0.1}, "x")
+    assert found.holds is None
+    assert found.part == "undecided at Fig. 6 at L/R = 80 (0.84 +- 0.10); the other 2 parts within 10 %"
+    c = _claim(test={"method": "measure", "name": "local_decay_law", "figures": ["f"], "law": "corrected",
+                     "tol": 0.1})
+    del c["tolerance"]
+    v = claims.evaluate_one(c, claims.Evidence({"f": ds}))
+    assert v.verdict == "inconclusive" and v.part == found.part
+    macros = paper.Macros()
+    paper.claim_macros([v], macros)
+    assert macros.expected()["verdict@x"] == "inconclusive, " + found.part
+    # the one-page results table gives the verdict alone, the claims table the reason too
+    assert "undecided" not in paper._verdict_cell(v, why=False) and "undecided at" in paper._verdict_cell(v)
 
 
 def test_local_decay_law_skips_lengths_without_a_bulk():

@@ -14,7 +14,7 @@ METHODS = ("derivation", "value", "measure", "not_testable")
 
 
 KEYS = {"id", "where", "label", "quantity", "claim", "paper", "paper_from", "test", "tolerance", "reading", "why",
-        "format", "finding"}
+        "format", "finding", "protocol"}
 #: a claim's label names it in the one-page results table: at most this many characters
 LABEL_CHARS = 40
 
@@ -59,6 +59,10 @@ def load(path: str | Path) -> list[dict[str, Any]]:
             if key in c and not (isinstance(c[key], str) and 0 < len(c[key]) <= limit):
                 raise ClaimError(f"{where} ({c['id']!r}): {key} = {c[key]!r}, expected a text of 1-{limit} characters "
                                  f"(it is a cell of the results table)")
+        if "protocol" in c and not (isinstance(c["protocol"], list) and c["protocol"]
+                                    and all(isinstance(p, str) and p for p in c["protocol"])):
+            raise ClaimError(f"{where} ({c['id']!r}): protocol = {c['protocol']!r}, expected a list of the loading "
+                             "protocols of the runs the claim reads")
         if c["id"] in seen:
             raise ClaimError(f"{where}: duplicate id {c['id']!r}")
         if "finding" in c and c["finding"] not in titles:

@@ -42,7 +42,8 @@ class Verdict:
     reading: str = ""
     note: str = ""
     finding: str = ""           # the independent finding it belongs to (claims.yaml `finding`, default its id)
-    part: str = ""              # of a "partly reproduced" claim: the part that holds (e.g. "at the loaded end")
+    part: str = ""              # of a "partly reproduced" claim: the part that holds (e.g. "at the loaded end");
+    #                             of an "inconclusive" one, where a measure says: what leaves it undecided
     label: str = ""             # a short name (claims.yaml `label`)
     quantity: str = ""          # what the numbers of `paper` and `ours` are (claims.yaml `quantity`)
     protocol: str = ""          # the loading protocols of the datasets and runs it read (", "-joined)
@@ -92,8 +93,22 @@ def evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
     if off:
         verdict = unsettled_verdict(c, off)
     verdict.label, verdict.quantity = str(c.get("label", c["id"])), str(c.get("quantity", ""))
-    verdict.protocol = ", ".join(ev.protocols())
+    verdict.protocol = ", ".join(read_protocols(c, ev))
     return verdict
+
+
+def read_protocols(c: Mapping[str, Any], ev: Evidence) -> list[str]:
+    """The loading protocols of the runs a claim read: its `protocol` list where a dataset it
+    reads mixes several (each must be among the evidence's: ClaimError otherwise), else all of
+    the evidence's (Evidence.protocols)."""
+    found = ev.protocols()
+    if "protocol" not in c:
+        return found
+    missing = [p for p in c["protocol"] if p not in found]
+    if missing:
+        raise ClaimError(f"claim {c['id']!r}: protocol = {c['protocol']!r}, but the runs it read have "
+                         f"{', '.join(found) or 'no protocol'} (not {', '.join(missing)})")
+    return sorted(c["protocol"])
 
 
 def unsettled_verdict(c: Mapping[str, Any], runs: list[str]) -> Verdict:
@@ -136,7 +151,7 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
             if not isinstance(found, Measured):
                 raise TypeError(f"measure {test['name']} returned {type(found).__name__}, not a Measured")
             ours_value, holds, evidence, note, part, ours_error = found
-            if part and holds is not False:
+            if part and holds is True:
                 raise TypeError(f"measure {test['name']} names a part that holds ({part!r}) but does not "
                                 "find the claim as stated to fail")
         if math.isnan(ours_value) and holds is None:
@@ -160,7 +175,7 @@ def _evaluate_one(c: Mapping[str, Any], ev: Evidence) -> Verdict:
         raise ClaimError(f"claim {cid!r}: the measured error is {ours_error!r} ({evidence})")
     return Verdict(cid, c["where"], c["claim"], paper_text, paper_value, ours, ours_value, _tolerance_text(tol),
                    verdict, evidence, reading, note, str(c.get("finding", cid)),
-                   part if verdict == "partly reproduced" else "", ours_error=ours_error)
+                   part if verdict in ("partly reproduced", "inconclusive") else "", ours_error=ours_error)
 
 
 def evaluate(claims: list[Mapping[str, Any]], ev: Evidence) -> list[Verdict]:
@@ -226,7 +241,9 @@ def to_dataset(verdicts: list[Verdict], titles: Mapping[str, str] | None = None)
     data = {VARIABLE.get(name, name): text(name, long) for name, long in (
         ("where", "section, equation or figure of the original"), ("claim", "what the paper says"),
         ("paper", "the paper's value as printed"), ("ours", "our value"),
-        ("verdict", ", ".join(VERDICTS)), ("part", "of a partly reproduced claim: the part that holds"),
+        ("verdict", ", ".join(VERDICTS)),
+        ("part", "of a partly reproduced claim: the part that holds; of an inconclusive one: what leaves it "
+                 "undecided, where the measure says"),
         ("label", "short name of the claim"), ("quantity", "what the paper's value and ours are"),
         ("protocol", "loading protocols of the datasets and runs the claim read"),
         ("tolerance", "tolerance deciding the verdict"), ("reading", "interpretation the verdict needs"),

@@ -16,7 +16,8 @@ class Measured(NamedTuple):
     evidence: str           # the files and variables read
     note: str               # how it was decided, and why where it is inconclusive
     #: with holds False: the part of the claim that holds, where the claim as stated fails in
-    #: another part (the verdict is then "partly reproduced", e.g. "at the loaded end")
+    #: another part (the verdict is then "partly reproduced", e.g. "at the loaded end"); with
+    #: holds None: what leaves it undecided, in a few words (printed beside the verdict)
     part: str = ""
     #: the error of `value` where the measure has one (the standard error of a mean over seeds; for
     #: a single rod or a threshold the error its note names): the tables print the value with it

@@ -326,6 +326,7 @@ def local_decay_law(ev, spec, claim):
     parts. The note gives the spread over the single rods (every seed of every part) too."""
     law, tol = spec["law"], float(spec["tol"])
     parts, notes, ratios, errs, files, skipped, seen, rods = [], [], [], [], [], 0, {}, []
+    named: list[str] = []
     for fig in spec["figures"]:
         ds = ev.dataset(fig, claim)
         files.append(f"{dataset_path(fig)}")
@@ -354,6 +355,7 @@ def local_decay_law(ev, spec, claim):
                 rods.append(r)
             parts.append(True if abs(r - 1) <= tol else (False if abs(r - 1) - 2 * u > tol else None))
             notes.append(f"{where}: {r:.3f} +- {u:.2g}")
+            named.append(_part_words(ds, dim, i) + f" ({r:.2f} +- {u:.2f})")
     if not ratios:
         raise ClaimError(f"claim {claim!r}: no bulk helix in {files}")
     rods_a = np.asarray(rods, dtype=float)
@@ -366,8 +368,24 @@ def local_decay_law(ev, spec, claim):
         note += f"; {skipped} runs without a bulk helix (short rods) not counted"
     # the error of the mean over the parts from each part's own (independent ensembles)
     err = float(np.sqrt(np.sum(np.square(errs)))) / len(errs)
-    return Measured(float(np.mean(ratios)), _combine(parts), \
-        ", ".join(f + ":bulk_decay_rate, bulk_decay_rate_err, decay_rate_model" for f in files), note, error=err)
+    holds = _combine(parts)
+    undecided = [n for n, p in zip(named, parts) if p is None]
+    # inconclusive means every part holds or is undecided (_combine): say which are undecided
+    why = (f"undecided at {', '.join(undecided)}; the other {len(parts) - len(undecided)} parts within "
+           f"{100 * tol:g} %") if holds is None else ""
+    return Measured(float(np.mean(ratios)), holds, \
+        ", ".join(f + ":bulk_decay_rate, bulk_decay_rate_err, decay_rate_model" for f in files), note, part=why,
+        error=err)
+
+
+def _part_words(ds, dim: str, i: int) -> str:
+    """A part of the local decay law in words: 'Fig. 4(c)', 'Fig. 7', 'Fig. 6 at L/R = 640' (the
+    figure's paper number where it has one)."""
+    fig = str(ds.attrs.get("paper_figure", "none"))
+    name = f"Fig. {fig}" if fig != "none" else str(ds.attrs.get("figure", "the figure"))
+    if dim == "L":
+        return f"{name} at L/R = {float(ds.L.values[i]):g}"
+    return name + (_panel_label(ds, i) if ds.sizes.get("panel", 1) > 1 else "")
 
 
 def _printed_rates(ev, figures, claim) -> list[dict]:
