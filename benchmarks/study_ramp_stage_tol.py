@@ -62,6 +62,7 @@ def stage_tol(scene: Scene, load: float, factor: float) -> float:
 def one(args: tuple[int, int, float, float]) -> dict:
     seed, ramp_steps, factor, k_ph = args
     sc = Scene(seed=seed, ramp_steps=ramp_steps, name=f"stage_tol/x{factor:g}-s{seed}", **(ROD | {"k_ph": k_ph}))
+
     def ramp_stage(scene, load):
         return dataclasses.replace(PIPELINE_STAGE(scene, load), tol=stage_tol(scene, load, factor))
 
@@ -78,6 +79,41 @@ def one(args: tuple[int, int, float, float]) -> dict:
                                              for k, x in v.items()}
 
 
+def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict, dict]:
+    """Per factor: the counts of loosely wound and unclassified runs, the mean F(L), and against
+    the first factor the paired shift of F(L) and the seeds that change; the manuscript's texts."""
+    by = {f: {r["seed"]: r for r in runs if r["factor"] == f} for f in factors}
+    ref = factors[0]
+    summary = {}
+    for f in factors:
+        rs = list(by[f].values())
+        row = {"runs": len(rs), "loosely_wound": sum(1 for r in rs if r.get("loosely_wound") == 1.0),
+               # no bulk helix whose wall force could be read: neither loosely wound nor not
+               "unclassified": sum(1 for r in rs if r.get("loosely_wound") is None),
+               "mean_F_transmitted": statistics.mean(r["F_transmitted"] for r in rs),
+               "median_wall_s": statistics.median(r["wall_s"] for r in rs),
+               "median_steps": statistics.median(r["steps"] for r in rs)}
+        if f != ref:
+            d = [by[f][s]["F_transmitted"] / by[ref][s]["F_transmitted"] - 1 for s in by[f]]
+            row["F_transmitted_paired_shift"] = statistics.mean(d)
+            row["F_transmitted_shift_95"] = 1.96 * statistics.stdev(d) / len(d) ** 0.5 if len(d) > 1 else None
+            row["largest_single_change"] = max(d, key=abs)
+            row["seeds_changing_by_more_than_2_percent"] = [s for s in by[f] if abs(d[list(by[f]).index(s)]) > 0.02]
+            row["seeds_changing_loose_state"] = [s for s in by[f] if
+                                                 by[f][s].get("loosely_wound") != by[ref][s].get("loosely_wound")]
+        summary[f"{f:g}"] = row
+    macros = {"loose": ", ".join(f"{summary[f'{f:g}']['loosely_wound']} of "
+                                 f"{summary[f'{f:g}']['runs'] - summary[f'{f:g}']['unclassified']} at {f:g}x"
+                                 for f in factors),
+              "unclassified": ", ".join(f"{summary[f'{f:g}']['unclassified']} at {f:g}x" for f in factors),
+              "seeds": str(seeds), "factors": ", ".join(f"{f:g}" for f in factors)}
+    for f in factors[1:]:
+        row = summary[f"{f:g}"]
+        macros["shift_x" + f"{f:g}".replace(".", "_")] = (f"{100 * row['F_transmitted_paired_shift']:+.0f} +- "
+                                   f"{100 * row['F_transmitted_shift_95'] / 1.96:.0f} %")
+    return summary, macros
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=10)
@@ -85,8 +121,21 @@ def main() -> None:
     ap.add_argument("--factors", nargs="+", type=float, default=[1.0, 10.0])
     ap.add_argument("--k-ph", type=float, default=ROD["k_ph"], help="bond stiffness of the rod (ROD's by default)")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--summarise", action="store_true",
+                    help="summarise the runs of the output file again (its factors and seeds), run nothing")
     ap.add_argument("-o", "--output", default="benchmarks/results/study_ramp_stage_tol.json")
     a = ap.parse_args()
+    path = Path(a.output)
+    path = path if path.is_absolute() else Path.cwd() / path
+    if a.summarise:
+        out = json.loads(path.read_text())
+        runs = out["runs"]
+        factors = list(dict.fromkeys(r["factor"] for r in runs))
+        factors = [out.get("reference_factor", factors[0])] + [f for f in factors if f != out.get("reference_factor")]
+        out["summary"], out["macros"] = summarise(runs, factors, len({r["seed"] for r in runs}))
+        path.write_text(json.dumps(out, indent=1) + "\n")
+        print(json.dumps(out["summary"], indent=1))
+        return
     rod = ROD | {"k_ph": a.k_ph}
     sc = Scene(seed=0, ramp_steps=a.ramp_steps, **rod)
     loads = sc.ramp_loads()
@@ -100,39 +149,14 @@ def main() -> None:
     work = [(s, a.ramp_steps, f, a.k_ph) for s in range(a.seeds) for f in a.factors]
     with Pool(a.jobs) as pool:
         runs = pool.map(one, work)
-    by = {f: {r["seed"]: r for r in runs if r["factor"] == f} for f in a.factors}
+    summary, macros = summarise(runs, a.factors, a.seeds)
     ref = a.factors[0]
-    summary = {}
-    for f in a.factors:
-        rs = list(by[f].values())
-        row = {"runs": len(rs), "loosely_wound": sum(1 for r in rs if r.get("loosely_wound") == 1.0),
-               "mean_F_transmitted": statistics.mean(r["F_transmitted"] for r in rs),
-               "median_wall_s": statistics.median(r["wall_s"] for r in rs),
-               "median_steps": statistics.median(r["steps"] for r in rs)}
-        if f != ref:
-            d = [by[f][s]["F_transmitted"] / by[ref][s]["F_transmitted"] - 1 for s in by[f]]
-            row["F_transmitted_paired_shift"] = statistics.mean(d)
-            row["F_transmitted_shift_95"] = 1.96 * statistics.stdev(d) / len(d) ** 0.5 if len(d) > 1 else None
-            row["largest_single_change"] = max(d, key=abs)
-            row["seeds_changing_by_more_than_2_percent"] = [s for s in by[f] if abs(d[list(by[f]).index(s)]) > 0.02]
-            row["seeds_changing_loose_state"] = [s for s in by[f] if
-                                                 by[f][s].get("loosely_wound") != by[ref][s].get("loosely_wound")]
-        summary[f"{f:g}"] = row
-    macros = {"loose": ", ".join(f"{summary[f'{f:g}']['loosely_wound']} of {summary[f'{f:g}']['runs']} at "
-                                 f"{f:g}x" for f in a.factors),
-              "seeds": str(a.seeds), "factors": ", ".join(f"{f:g}" for f in a.factors)}
-    for f in a.factors[1:]:
-        row = summary[f"{f:g}"]
-        macros[f"shift_x{f:g}"] = (f"{100 * row['F_transmitted_paired_shift']:+.0f} +- "
-                                   f"{100 * row['F_transmitted_shift_95'] / 1.96:.0f} %")
     out = {"setup": "Fig 4(b)'s rod: " + ", ".join(f"{k} {v}" for k, v in rod.items())
            + f", ramp of {a.ramp_steps} loads; every intermediate stage held to factor x the tolerance "
            f"of the publication's rod (k_ph {ROD['k_ph']:g}; module docstring); one core per run",
            "stage_tolerance_at_load": tols, "provenance": provenance(), "reference_factor": ref,
            "macros": macros,
            "summary": summary, "runs": runs}
-    path = Path(a.output)
-    path = path if path.is_absolute() else Path.cwd() / path
     path.write_text(json.dumps(out, indent=1) + "\n")
     print(json.dumps({"stage_tolerance_at_load": tols, "summary": summary}, indent=1))
 
