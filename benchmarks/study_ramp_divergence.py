@@ -8,7 +8,10 @@ numbers of steps from the same straight start (same seed). After every stage the
 described by what the ramp ladders compare at the end: the turns of the wall-contact stretch,
 the wall force of the bulk helix over the torque-free helix's (K/(R F^2/4EI), median over the
 middle half of the contact stretch, F the local axial force; below
-local_relations.LOOSE_WALL_RATIO the helix is loosely wound), the transmitted fraction, and the
+local_relations.LOOSE_WALL_RATIO the helix is loosely wound: a proxy that can be read at every
+stage, where the ramp ladders read the same ratio over the bulk helix that
+analysis.regions finds in the final state, so the two can class a seed differently), the
+transmitted fraction, and the
 share of the contact links that are stuck. Between consecutive stages it records the slip
 events: the largest jump of the turns and of the wall-force ratio, the stage where it happens,
 and the stretch of the rod (s from the loaded end) whose azimuth moved most.
