@@ -8,17 +8,17 @@ Protocol 'ramp' relaxes every intermediate stage to the scene's tol or to the ro
 the stage's load, whichever is larger (solvers.base.ramp_stage). The residual is normalised by
 the stage's load, and the floor is an absolute force, so the stage tolerance grows as 1/load:
 the first stages of a 256-step ramp at L/R = 320 are held to ~1e-3 of their load, the last to
-the scene's 1e-5. At the publication's k_ph the floor cannot be lowered (float64), so the test
-is first the other way: every intermediate stage held to `factor` x the tolerance the pipeline
-uses at the publication numerics (1: the pipeline's; 10: ten times looser; never above
-limits.TOL_MAX). The floor is set by the bond stiffness (round-off of positions of size L times
-k_ph), so with a softer bond (`--k-ph 2500`: a floor about 4x lower) factors below 1 can be
-reached: they say whether the pipeline's stages are strict enough, i.e. whether the outcome has
-stopped moving at factor 1. A factor below the rod's own floor is refused, unless `--floor-factor
-f` lowers the floor to f times the pipeline's (limits.roundoff_tol carries a factor 8 over eps k L,
-where the measured stall of the Newton iteration is 1.6 eps k L, so f >= 0.2 can be reached at the
-publication's bond); a run whose stage cannot get there ends step-capped after `--max-steps`
-and is left out of the comparison. If a tenfold looser stage moves the final states (the paired
+the scene's 1e-5. Every intermediate stage is held to `factor` x the tolerance the pipeline uses
+at the publication numerics (1: the pipeline's; 10: ten times looser; never above
+limits.TOL_MAX). Below 1 the pipeline's round-off floor stands in the way. It is set by the bond
+stiffness (round-off of positions of size L times k_ph), so with a softer bond (`--k-ph 1250`: a
+floor 8x lower) factors below 1 can be reached: they say whether the pipeline's stages are strict
+enough, i.e. whether the outcome has stopped moving at factor 1. A factor below the rod's own
+floor is refused, unless `--floor-factor f` lowers the floor to f times the pipeline's at every
+stage, the last one too (limits.roundoff_tol carries a factor 8 over eps k L, where the measured
+stall of the Newton iteration is 1.6 eps k L, so f >= 0.2 can be reached at the publication's
+bond); a run whose stage cannot get there ends step-capped after `--max-steps` and is left out of
+the comparison. If a tenfold looser stage moves the final states (the paired
 shift of F(L), the seeds whose loosely wound state changes) no more than the seed-to-seed changes
 of the ramp ladders do, the stage tolerance is not what makes the ramp drift. Fig 4(b)'s rod
 (L/R = 320, k_fr = 0.3, load 0.25, publication numerics), the same seeds with each factor;
@@ -49,6 +49,7 @@ from confined_rod.sim.solvers import base  # noqa: E402
 ROD = dict(L=320.0, load=0.25, k_fr=0.3, l0=0.5, k_ph=1e4, k_w=1e3, tol=1e-5, protocol="ramp")
 #: the pipeline's stage (one() replaces base.ramp_stage while it runs)
 PIPELINE_STAGE = base.ramp_stage
+PIPELINE_TOL = base.equilibrium_tol
 
 
 def stage_tol(scene: Scene, load: float, factor: float, floor_factor: float = 1.0) -> float:
@@ -72,13 +73,18 @@ def one(args: tuple[int, int, float, float, float, int]) -> dict:
     def ramp_stage(scene, load):
         return dataclasses.replace(PIPELINE_STAGE(scene, load), tol=stage_tol(scene, load, factor, floor_factor))
 
-    base.ramp_stage = ramp_stage
+    def equilibrium_tol(scene):
+        # relax() tests equilibrium at the larger of the tol and the round-off floor: the floor taken
+        # floor_factor x the pipeline's (every stage and the final one alike)
+        return max(scene.tol, floor_factor * limits.roundoff_tol(scene))
+
+    base.ramp_stage, base.equilibrium_tol = ramp_stage, equilibrium_tol
     try:
         t0 = time.perf_counter()
         ds = simulation.simulate(sc, progress=False)
         wall = time.perf_counter() - t0
     finally:
-        base.ramp_stage = PIPELINE_STAGE
+        base.ramp_stage, base.equilibrium_tol = PIPELINE_STAGE, PIPELINE_TOL
     v = convergence._member_values(ds)
     return {"seed": seed, "factor": factor, "k_ph": k_ph, "wall_s": wall, "status": str(ds["status"].values),
             "steps": int(ds["n_steps"])} | {k: (None if x is None or not np.isfinite(x) else float(x))

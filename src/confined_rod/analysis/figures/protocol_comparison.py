@@ -44,6 +44,8 @@ ENSEMBLES = True
 #: (medians over the regular helix, the pitch over the exact torque-free rate w(F)): the denominators are
 #: functions of the local force, so a numerical shift of one ratio is the other's to first order
 REPORTS = ("F_transmitted", "decay_ratio", "wall_force_ratio", "pitch_ratio")
+#: the share of the log axis of panel (h) below its legend that the profiles may fill
+LEGEND_FREE = 0.6
 #: the settings a variant may change; everything else is the same in every variant
 VARIED = ("protocol", "ramp_steps", "ramp_start", "ends", "lower_end", "perturbation", "l0", "seed",
           "snapshot_interval", "snapshot_growth")
@@ -439,6 +441,11 @@ def _plot_formation(ds: xr.Dataset, ax) -> None:
     P.plain_log_ticks(ax.yaxis)
     ax.set_xlabel(label("s"), fontsize=8)
     ax.set_ylabel(r"$|F_z(s)|/|F_z(0)|$ while forming", fontsize=8)
-    ax.set_ylim(top=6.0)        # room above the profiles (all start at 1) for the legend
+    # room above the profiles for the legend (four lines at the top right): the curves, which may
+    # rise above 1 near the support while the helix forms, fill at most the lower LEGEND_FREE of
+    # the log axis
+    lo = ax.get_ylim()[0]
+    peak = max(float(np.nanmax(F[k] / F[k][0])) for k in keep)
+    ax.set_ylim(lo, max(6.0, 10 ** (np.log10(lo) + (np.log10(peak) - np.log10(lo)) / LEGEND_FREE)))
     ax.legend(fontsize=7, loc="upper right", handlelength=1.0, framealpha=0.9,
               title=f"seed {ds.attrs['formation_seed']}, " + r"$t$ in $\beta_{ph}R^4/EI$", title_fontsize=7)
