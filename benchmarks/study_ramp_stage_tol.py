@@ -59,7 +59,7 @@ def stage_tol(scene: Scene, load: float, factor: float, floor_factor: float = 1.
     ref = PIPELINE_STAGE(dataclasses.replace(scene, k_ph=ROD["k_ph"]), load).tol
     tol = min(factor * ref, limits.TOL_MAX)
     floor = floor_factor * limits.roundoff_tol(scene, load)
-    if tol < floor:
+    if tol < floor * (1 - 1e-9):   # equal up to round-off is reachable
         raise ValueError(f"factor {factor:g}: stage tolerance {tol:.3g} at load {load:.3g} is below the "
                          f"round-off floor {floor:.3g} of k_ph = {scene.k_ph:g}; use a softer bond")
     return tol

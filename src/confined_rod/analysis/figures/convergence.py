@@ -968,8 +968,10 @@ def plot(ds: xr.Dataset):
             ax.plot(h, ds["pitch_theory"].values, "x", ms=7, color="tab:red", label="discrete helix (theory)")
         lim = float(ds[f"{k}_limit"]) if f"{k}_limit" in ds else None
         if lim is not None:
-            ax.axhline(lim, **P.MODEL, label="finest rung's mean" if ensemble else
-                       "Richardson limit" if _extrapolated(ds, k) else "finest rung")
+            richardson = not ensemble and _extrapolated(ds, k)
+            # one legend serves every panel: the Richardson limit dashed, a finest rung dotted
+            ax.axhline(lim, **(P.MODEL | ({} if richardson else {"ls": ":"})),
+                       label="finest rung's mean" if ensemble else "Richardson limit" if richardson else "finest rung")
             if not described:
                 # the band never sets the axes: a tolerance much wider than the rungs' spread would
                 # squash them onto one line (a band filling the panel: every rung is inside it);
@@ -1021,5 +1023,7 @@ def plot(ds: xr.Dataset):
     head = f"convergence in {P.param_text(param, float(ds.attrs['publication_value'])).split(' =')[0]}$: "
     lines = _title_lines(head, ds.attrs["status"])
     fig.suptitle("\n".join(lines + [P.params_text(ds, ("L", "load", "k_fr"))]), fontsize=9)
-    P.bottom_legend(fig, axes[0][0], bottom=0.16 / nrow if ensemble else 0.08, ncol=3 if ensemble else None)
+    # three entries a row: six in one row (a single-run ladder with its theory and Richardson
+    # limit) are wider than the page, and the figure would be printed smaller than its text allows
+    P.bottom_legend(fig, axes[0][0], bottom=0.16 / nrow, ncol=3)
     return fig
