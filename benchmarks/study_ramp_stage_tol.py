@@ -91,6 +91,12 @@ def one(args: tuple[int, int, float, float, float, int]) -> dict:
                                              for k, x in v.items()}
 
 
+def _mean(rs: list[dict], key: str) -> float | None:
+    """The mean of a bulk relation over the runs that determine it (None if none does)."""
+    v = [r[key] for r in rs if r.get(key) is not None]
+    return statistics.mean(v) if v else None
+
+
 def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict, dict]:
     """Per factor: the runs at equilibrium (status 0; a step-capped stage is not), the counts of
     loosely wound and unclassified ones among them, their mean F(L), and against the first factor
@@ -106,6 +112,8 @@ def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict,
                # no bulk helix whose wall force could be read: neither loosely wound nor not
                "unclassified": sum(1 for r in rs if r.get("loosely_wound") is None),
                "mean_F_transmitted": statistics.mean(r["F_transmitted"] for r in rs) if rs else None,
+               # the bulk helix: wall force over the torque-free helix's, pitch over w(F), decay over the law
+               **{f"mean_{k}": _mean(rs, k) for k in ("wall_force_ratio", "pitch_ratio", "decay_ratio")},
                "median_wall_s": statistics.median(r["wall_s"] for r in runs if r["factor"] == f),
                "median_steps": statistics.median(r["steps"] for r in runs if r["factor"] == f)}
         both = sorted(set(by[f]) & set(by[ref]))
@@ -125,6 +133,8 @@ def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict,
               "unclassified": ", ".join(f"{summary[f'{f:g}']['unclassified']} at {f:g}x" for f in factors),
               "at_equilibrium": ", ".join(f"{summary[f'{f:g}']['at_equilibrium']} of {summary[f'{f:g}']['runs']} "
                                           f"at {f:g}x" for f in factors),
+              "wall_force": ", ".join(f"{summary[f'{f:g}']['mean_wall_force_ratio']:.2f} at {f:g}x" for f in factors
+                                      if summary[f"{f:g}"]["mean_wall_force_ratio"] is not None),
               "seeds": str(seeds), "factors": ", ".join(f"{f:g}" for f in factors)}
     for f in factors[1:]:
         row = summary[f"{f:g}"]
@@ -132,6 +142,39 @@ def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict,
             macros["shift_x" + f"{f:g}".replace(".", "_")] = (f"{100 * row['F_transmitted_paired_shift']:+.0f} +- "
                                                              f"{100 * row['F_transmitted_shift_95'] / 1.96:.0f} %")
     return summary, macros
+
+
+def _steps(data: dict) -> int:
+    return int(data["setup"].split("ramp of ")[1].split(" ")[0])
+
+
+def against(coarse: dict, fine: dict, name: str) -> tuple[dict, dict]:
+    """The runs of `fine` against those of `coarse` (another number of ramp steps) at every factor
+    both have, over the seeds at equilibrium in both: the paired shift of F(L) with its standard
+    error and the loosely wound counts; the manuscript's texts."""
+    out, macros = {"file": name, "steps": [_steps(coarse), _steps(fine)]}, {}
+    for f in sorted({r["factor"] for r in fine["runs"]} & {r["factor"] for r in coarse["runs"]}):
+        a = {r["seed"]: r for r in coarse["runs"] if r["factor"] == f and str(r["status"]) == "0"}
+        b = {r["seed"]: r for r in fine["runs"] if r["factor"] == f and str(r["status"]) == "0"}
+        both = sorted(set(a) & set(b))
+        d = [b[s]["F_transmitted"] / a[s]["F_transmitted"] - 1 for s in both]
+        loose = [sum(1 for s in both if x[s].get("loosely_wound") == 1.0) for x in (a, b)]
+        dr = [b[s]["decay_ratio"] - a[s]["decay_ratio"] for s in both
+              if b[s].get("decay_ratio") is not None and a[s].get("decay_ratio") is not None]
+        row = {"paired_seeds": len(both), "F_transmitted_paired_shift": statistics.mean(d),
+               "decay_ratio_paired_shift": statistics.mean(dr) if dr else None,
+               "decay_ratio_shift_se": statistics.stdev(dr) / len(dr) ** 0.5 if len(dr) > 1 else None,
+               "F_transmitted_shift_se": statistics.stdev(d) / len(d) ** 0.5, "loosely_wound": loose}
+        out[f"{f:g}"] = row
+        key = f"{f:g}".replace(".", "_")
+        macros[f"steps_shift_x{key}"] = (f"{100 * row['F_transmitted_paired_shift']:+.1f} +- "
+                                         f"{100 * row['F_transmitted_shift_se']:.1f} %")
+        if row["decay_ratio_shift_se"] is not None:
+            macros[f"steps_decay_shift_x{key}"] = (f"{row['decay_ratio_paired_shift']:+.3f} +- "
+                                                   f"{row['decay_ratio_shift_se']:.3f}")
+        macros[f"steps_loose_x{key}"] = (f"{loose[0]} and {loose[1]} of {len(both)} at {out['steps'][0]} and "
+                                         f"{out['steps'][1]} steps")
+    return out, macros
 
 
 def main() -> None:
@@ -146,6 +189,9 @@ def main() -> None:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--summarise", action="store_true",
                     help="summarise the runs of the output file again (its factors and seeds), run nothing")
+    ap.add_argument("--against", metavar="JSON",
+                    help="with --summarise: compare the output's runs with those of another ramp resolution "
+                         "(same factor, same seeds; paired shift of F(L) and loosely wound shares)")
     ap.add_argument("-o", "--output", default="benchmarks/results/study_ramp_stage_tol.json")
     a = ap.parse_args()
     path = Path(a.output)
@@ -156,6 +202,10 @@ def main() -> None:
         factors = list(dict.fromkeys(r["factor"] for r in runs))
         factors = [out.get("reference_factor", factors[0])] + [f for f in factors if f != out.get("reference_factor")]
         out["summary"], out["macros"] = summarise(runs, factors, len({r["seed"] for r in runs}))
+        if a.against:
+            other = json.loads(Path(a.against).read_text())
+            out["against"], extra = against(other, out, Path(a.against).name)
+            out["macros"] |= extra
         path.write_text(json.dumps(out, indent=1) + "\n")
         print(json.dumps(out["summary"], indent=1))
         return
