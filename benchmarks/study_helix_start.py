@@ -72,6 +72,7 @@ def main() -> None:
     macros = {"w_start": f"{w:.4f}", "zero_wall_force": f"{c * w**2 / ROD['load']:.3f}",
               "plateau": f"{pub['plateau'][0]:.3f} to {pub['plateau'][1]:.3f}",
               "pitch_rate": f"{pub['pitch_rate'][0]:.4f} to {pub['pitch_rate'][1]:.4f}",
+              "K_ratio": f"{pub['K_ratio'][0]:.3f} to {pub['K_ratio'][1]:.3f}",
               "fraction_by_k_ph": ", ".join(f"{summary[f'{k:g}']['fraction_mean']:.2f} at k_ph = {k:g}"
                                             for k in a.k_ph)}
     out = {"setup": "the helix start of the protocol comparison: " + ", ".join(f"{k} {v}" for k, v in ROD.items())

@@ -17,8 +17,8 @@ enough, i.e. whether the outcome has stopped moving at factor 1. A factor below 
 floor is refused, unless `--floor-factor f` lowers the floor to f times the pipeline's at every
 stage, the last one too (limits.roundoff_tol carries a factor 8 over eps k L, where the measured
 stall of the Newton iteration is 1.6 eps k L, so f >= 0.2 can be reached at the publication's
-bond); a run whose stage cannot get there ends step-capped after `--max-steps` and is left out of
-the comparison. If a tenfold looser stage moves the final states (the paired
+bond); a run whose stage cannot get there ends at the time cap (or after `--max-steps`) and is
+left out of the comparison. If a tenfold looser stage moves the final states (the paired
 shift of F(L), the seeds whose loosely wound state changes) no more than the seed-to-seed changes
 of the ramp ladders do, the stage tolerance is not what makes the ramp drift. Fig 4(b)'s rod
 (L/R = 320, k_fr = 0.3, load 0.25, publication numerics), the same seeds with each factor;
@@ -113,7 +113,8 @@ def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict,
                "unclassified": sum(1 for r in rs if r.get("loosely_wound") is None),
                "mean_F_transmitted": statistics.mean(r["F_transmitted"] for r in rs) if rs else None,
                # the bulk helix: wall force over the torque-free helix's, pitch over w(F), decay over the law
-               **{f"mean_{k}": _mean(rs, k) for k in ("wall_force_ratio", "pitch_ratio", "decay_ratio")},
+               **{f"mean_{k}": _mean(rs, k) for k in ("wall_force_ratio", "pitch_ratio", "decay_ratio",
+                                                      "lower_length", "lower_friction_use")},
                "median_wall_s": statistics.median(r["wall_s"] for r in runs if r["factor"] == f),
                "median_steps": statistics.median(r["steps"] for r in runs if r["factor"] == f)}
         both = sorted(set(by[f]) & set(by[ref]))
@@ -135,6 +136,10 @@ def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict,
                                           f"at {f:g}x" for f in factors),
               "wall_force": ", ".join(f"{summary[f'{f:g}']['mean_wall_force_ratio']:.2f} at {f:g}x" for f in factors
                                       if summary[f"{f:g}"]["mean_wall_force_ratio"] is not None),
+              "lower": ", ".join(f"{summary[f'{f:g}']['mean_lower_length']:.0f} R with its friction at "
+                                 f"{summary[f'{f:g}']['mean_lower_friction_use']:.2f} of the limit at {f:g}x"
+                                 for f in factors if summary[f"{f:g}"]["mean_lower_length"] is not None
+                                 and summary[f"{f:g}"]["mean_lower_friction_use"] is not None),
               "seeds": str(seeds), "factors": ", ".join(f"{f:g}" for f in factors)}
     for f in factors[1:]:
         row = summary[f"{f:g}"]
@@ -149,10 +154,13 @@ def _steps(data: dict) -> int:
 
 
 def against(coarse: dict, fine: dict, name: str) -> tuple[dict, dict]:
-    """The runs of `fine` against those of `coarse` (another number of ramp steps) at every factor
-    both have, over the seeds at equilibrium in both: the paired shift of F(L) with its standard
-    error and the loosely wound counts; the manuscript's texts."""
-    out, macros = {"file": name, "steps": [_steps(coarse), _steps(fine)]}, {}
+    """The runs of `fine` against those of `coarse` (another number of ramp steps, or at the same
+    steps another bond stiffness) at every factor both have, over the seeds at equilibrium in
+    both: the paired shift of F(L) and of the decay ratio with their standard errors and the
+    loosely wound counts; the manuscript's texts (keys steps_* or bond_*)."""
+    out, macros = {"file": name, "steps": [_steps(coarse), _steps(fine)],
+                   "k_ph": [coarse["runs"][0].get("k_ph"), fine["runs"][0].get("k_ph")]}, {}
+    what = "steps" if out["steps"][0] != out["steps"][1] else "bond"
     for f in sorted({r["factor"] for r in fine["runs"]} & {r["factor"] for r in coarse["runs"]}):
         a = {r["seed"]: r for r in coarse["runs"] if r["factor"] == f and str(r["status"]) == "0"}
         b = {r["seed"]: r for r in fine["runs"] if r["factor"] == f and str(r["status"]) == "0"}
@@ -167,13 +175,14 @@ def against(coarse: dict, fine: dict, name: str) -> tuple[dict, dict]:
                "F_transmitted_shift_se": statistics.stdev(d) / len(d) ** 0.5, "loosely_wound": loose}
         out[f"{f:g}"] = row
         key = f"{f:g}".replace(".", "_")
-        macros[f"steps_shift_x{key}"] = (f"{100 * row['F_transmitted_paired_shift']:+.1f} +- "
+        macros[f"{what}_shift_x{key}"] = (f"{100 * row['F_transmitted_paired_shift']:+.1f} +- "
                                          f"{100 * row['F_transmitted_shift_se']:.1f} %")
         if row["decay_ratio_shift_se"] is not None:
-            macros[f"steps_decay_shift_x{key}"] = (f"{row['decay_ratio_paired_shift']:+.3f} +- "
+            macros[f"{what}_decay_shift_x{key}"] = (f"{row['decay_ratio_paired_shift']:+.3f} +- "
                                                    f"{row['decay_ratio_shift_se']:.3f}")
-        macros[f"steps_loose_x{key}"] = (f"{loose[0]} and {loose[1]} of {len(both)} at {out['steps'][0]} and "
-                                         f"{out['steps'][1]} steps")
+        macros[f"{what}_loose_x{key}"] = (f"{loose[0]} and {loose[1]} of {len(both)} at " + (
+            f"{out['steps'][0]} and {out['steps'][1]} steps" if what == "steps" else
+            f"k_ph = {out['k_ph'][0]:g} and {out['k_ph'][1]:g}"))
     return out, macros
 
 

@@ -431,7 +431,7 @@ def test_inconclusive_local_decay_law_names_the_undecided_parts():
     found = claims.MEASURES["local_decay_law"](claims.Evidence({"f": ds}), {"figures": ["f"], "law": "corrected",
                                                                              "tol": 0.1}, "x")
     assert found.holds is None
-    assert found.part == "undecided at Fig. 6 at L/R = 80 (0.84 +- 0.10); the other 2 parts within 10 %"
+    assert found.part == "within 10 % at 2 of 3 panels and lengths, undecided at Fig. 6 at L/R = 80, 0.84 +- 0.10"
     c = _claim(test={"method": "measure", "name": "local_decay_law", "figures": ["f"], "law": "corrected",
                      "tol": 0.1})
     del c["tolerance"]

@@ -355,7 +355,7 @@ def local_decay_law(ev, spec, claim):
                 rods.append(r)
             parts.append(True if abs(r - 1) <= tol else (False if abs(r - 1) - 2 * u > tol else None))
             notes.append(f"{where}: {r:.3f} +- {u:.2g}")
-            named.append(_part_words(ds, dim, i) + f" ({r:.2f} +- {u:.2f})")
+            named.append(_part_words(ds, dim, i) + f", {r:.2f} +- {u:.2f}")
     if not ratios:
         raise ClaimError(f"claim {claim!r}: no bulk helix in {files}")
     rods_a = np.asarray(rods, dtype=float)
@@ -371,8 +371,8 @@ def local_decay_law(ev, spec, claim):
     holds = _combine(parts)
     undecided = [n for n, p in zip(named, parts) if p is None]
     # inconclusive means every part holds or is undecided (_combine): say which are undecided
-    why = (f"undecided at {', '.join(undecided)}; the other {len(parts) - len(undecided)} parts within "
-           f"{100 * tol:g} %") if holds is None else ""
+    why = (f"within {100 * tol:g} % at {len(parts) - len(undecided)} of {len(parts)} panels and lengths, "
+           f"undecided at {'; '.join(undecided)}") if holds is None else ""
     return Measured(float(np.mean(ratios)), holds, \
         ", ".join(f + ":bulk_decay_rate, bulk_decay_rate_err, decay_rate_model" for f in files), note, part=why,
         error=err)
