@@ -220,6 +220,11 @@ def test_claims_dataset_has_no_nan_and_round_trips():
 # -- the manuscript's generated text --------------------------------------------------------------
 def test_numbers_get_a_minus_sign_and_a_plain_text_twin():
     assert paper.tex_value("-0.5") == (r"\ensuremath{-}0.5", "-0.5")
+    # inside a sentence too, where a hyphen is the sign of a number; the plain twin keeps the ASCII
+    macros = paper.Macros()
+    macros.add_text("val", "x", "F(L) -14 +- 4 % (-0.027 +- 0.026), x-1")
+    assert macros.items["val@x"][1:] == (r"F(L) \ensuremath{-}14 \ensuremath{\pm} 4 \% (\ensuremath{-}0.027 "
+                                         r"\ensuremath{\pm} 0.026), x-1", "F(L) -14 +- 4 % (-0.027 +- 0.026), x-1")
     assert paper.tex_value("2.40e-07") == (r"2.40\ensuremath{\times10^{-7}}", "2.40x10-7")
     assert paper.tex_value("10,375")[1] == "10,375"
     assert paper.tex_value("F_z(L)")[0] == r"F\_z(L)"

@@ -53,6 +53,10 @@ def is_number(text: str) -> bool:
     return bool(_NUMBER.match(text))
 
 
+#: a hyphen that is the sign of a number inside a sentence (at its start or after a space or bracket)
+_TEXT_MINUS = re.compile(r"(^|[\s(;,])-(?=\d|\.\d)")
+
+
 def tex_value(text: str) -> tuple[str, str]:
     """A value as LaTeX and as the text pdftotext gives back (minus sign and times as
     the ASCII '-' and 'x' after normalize()). Numbers get a real minus sign and x10^n."""
@@ -463,9 +467,10 @@ class Macros:
 
     def add_text(self, family: str, key: str, text: str) -> None:
         """A sentence (e.g. a verdict with its numbers): as add, with every ' +- ' typeset as a
-        plus-minus sign."""
+        plus-minus sign and the minus of a negative number in it as a minus sign."""
         tex, plain = tex_value(str(text))
-        self.items[f"{family}@{_key(key)}"] = (family, tex.replace(" +- ", r" \ensuremath{\pm} "), plain)
+        tex = _TEXT_MINUS.sub(r"\1\\ensuremath{-}", tex.replace(" +- ", r" \ensuremath{\pm} "))
+        self.items[f"{family}@{_key(key)}"] = (family, tex, plain)
 
     def add_list(self, family: str, key: str, values: list[tuple[float, float]], spec: str = ".3g") -> None:
         """A list of values mean +- s.d. (no s.d. where it is 0), typeset with a real plus-minus
