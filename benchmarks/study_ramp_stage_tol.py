@@ -91,6 +91,12 @@ def one(args: tuple[int, int, float, float, float, int]) -> dict:
                                              for k, x in v.items()}
 
 
+def _se(values) -> float | None:
+    """The standard error of the mean of paired differences (None for fewer than two)."""
+    values = list(values)
+    return statistics.stdev(values) / len(values) ** 0.5 if len(values) > 1 else None
+
+
 def _mean(rs: list[dict], key: str) -> float | None:
     """The mean of a bulk relation over the runs that determine it (None if none does)."""
     v = [r[key] for r in rs if r.get(key) is not None]
@@ -122,7 +128,8 @@ def summarise(runs: list[dict], factors: list[float], seeds: int) -> tuple[dict,
             d = {s: by[f][s]["F_transmitted"] / by[ref][s]["F_transmitted"] - 1 for s in both}
             row["paired_seeds"] = len(both)
             row["F_transmitted_paired_shift"] = statistics.mean(d.values())
-            row["F_transmitted_shift_95"] = 1.96 * statistics.stdev(d.values()) / len(d) ** 0.5 if len(d) > 1 else None
+            se = _se(d.values())
+            row["F_transmitted_shift_95"] = None if se is None else 1.96 * se
             row["largest_single_change"] = max(d.values(), key=abs)
             row["seeds_changing_by_more_than_2_percent"] = [s for s in both if abs(d[s]) > 0.02]
             row["seeds_changing_loose_state"] = [s for s in both if
@@ -171,8 +178,7 @@ def against(coarse: dict, fine: dict, name: str) -> tuple[dict, dict]:
               if b[s].get("decay_ratio") is not None and a[s].get("decay_ratio") is not None]
         row = {"paired_seeds": len(both), "F_transmitted_paired_shift": statistics.mean(d),
                "decay_ratio_paired_shift": statistics.mean(dr) if dr else None,
-               "decay_ratio_shift_se": statistics.stdev(dr) / len(dr) ** 0.5 if len(dr) > 1 else None,
-               "F_transmitted_shift_se": statistics.stdev(d) / len(d) ** 0.5, "loosely_wound": loose}
+               "decay_ratio_shift_se": _se(dr), "F_transmitted_shift_se": _se(d), "loosely_wound": loose}
         out[f"{f:g}"] = row
         key = f"{f:g}".replace(".", "_")
         macros[f"{what}_shift_x{key}"] = (f"{100 * row['F_transmitted_paired_shift']:+.1f} +- "
